@@ -1,0 +1,24 @@
+// Colour encodings. Shading and filtering happen on linear values; images on disk and on
+// screen are sRGB. The transfer function is the piecewise sRGB curve (IEC 61966-2-1):
+//   linear = c / 12.92                    for c <= 0.04045
+//   linear = ((c + 0.055) / 1.055)^2.4     otherwise
+#pragma once
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace texr {
+
+using Color = glm::vec3;   // linear RGB
+using Color4 = glm::vec4;  // linear RGBA (alpha is coverage, never encoded)
+
+float srgb_to_linear(float encoded);
+float linear_to_srgb(float linear);
+
+// Decoding table for 8-bit sRGB texels: srgb8_to_linear_table()[byte] is the linear value.
+const float* srgb8_to_linear_table();
+
+// Linear [0, 1] to an 8-bit sRGB byte, rounded to nearest; values outside [0, 1] clamp.
+std::uint8_t linear_to_srgb8(float linear);
+
+}  // namespace texr

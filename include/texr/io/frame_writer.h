@@ -1,0 +1,31 @@
+// Writing frames: binary PPM (P6) or PNG, chosen by the file extension, sRGB-encoded.
+// Written atomically: the bytes go to a temporary file beside the target, which is renamed
+// over it only when complete, so a failure never leaves a half-written frame and never
+// destroys the previous one.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "texr/render/framebuffer.h"
+
+namespace texr {
+
+enum class FrameFormat { png, ppm };
+
+// The format for `path`'s extension (.png or .ppm); throws InputError otherwise.
+FrameFormat frame_format_for(const std::string& path);
+
+// 8-bit sRGB RGB bytes of the frame, row 0 at the top.
+std::vector<std::uint8_t> encode_srgb8(const Framebuffer& fb);
+
+// The file's bytes in the given format.
+std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format);
+
+// Writes `bytes` to `path` through a temporary file and a rename. Throws InputError naming
+// the path when it cannot be written.
+void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes);
+
+void write_frame(const Framebuffer& fb, const std::string& path);
+
+}  // namespace texr

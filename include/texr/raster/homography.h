@@ -1,0 +1,62 @@
+// The lecture's "Triangle Parameterization" slides: per triangle, the 3x3 homography
+//   M:      (u, v, 1)  -> (x', y', w),   (x, y) = (x'/w, y'/w)
+//   M^-1:   (x, y, 1)  -> (u', v', q),   (u, v) = (u'/q, v'/q)
+// The inverse is computed directly (DESIGN.md) as
+//   M^-1 = U * diag(1/w0, 1/w1, 1/w2) * adj(S)
+// with S = [x_i; y_i; 1] (screen vertices as columns) and U = [u_i; v_i; 1]. adj(S) * (x, y, 1)
+// is det(S) times the screen-space barycentric coordinates, so this needs only a
+// non-degenerate *screen* triangle; collinear or coincident UVs still give finite values.
+// We also divide by det(S), so that q is exactly 1/w (it cancels in u'/q either way).
+// Each row of M^-1 is a Plane: u', v', q are linear in x, y with constant derivatives.
+#pragma once
+#include <array>
+#include <optional>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+
+#include "texr/raster/plane.h"
+
+namespace texr {
+
+// Screen-space barycentric planes: lambda_i(x, y) for a triangle with the given screen
+// vertices (rows of adj(S) / det(S)). Requires det(S) != 0.
+std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& screen);
+
+// A perspective-correct attribute: plane of a/w, from the vertex values a_i and 1/w_i.
+// value = plane / q-plane at any pixel.
+Plane over_w_plane(const std::array<Plane, 3>& barycentric, const std::array<double, 3>& value,
+                   const std::array<double, 3>& inv_w);
+
+struct TextureHomography {
+    Plane u_prime, v_prime, q;  // rows of M^-1
+
+    // M^-1 as a matrix (rows u', v', q; columns x, y, 1), for teaching output and tests.
+    glm::dmat3 inverse() const;
+    // The forward M = (M^-1)^-1, only when the UVs are not collinear (M^-1 invertible).
+    std::optional<glm::dmat3> forward() const;
+
+    // (u, v) at screen point (x, y).
+    glm::dvec2 uv_at(double x, double y) const {
+        const double qv = q.at(x, y);
+        return {u_prime.at(x, y) / qv, v_prime.at(x, y) / qv};
+    }
+};
+
+// screen: vertex positions in pixels; inv_w: 1/w_clip per vertex; uv: texture coordinates.
+TextureHomography texture_homography(const std::array<glm::dvec2, 3>& screen,
+                                     const std::array<double, 3>& inv_w,
+                                     const std::array<glm::dvec2, 3>& uv);
+
+// Exact screen-space derivatives by the quotient rule, at a point where u = u'/q, v = v'/q:
+//   du/dx = (du'/dx - u * dq/dx) / q   (and likewise for v and for y).
+struct UVDerivatives {
+    double dudx, dvdx, dudy, dvdy;
+};
+inline UVDerivatives uv_derivatives(const TextureHomography& h, double u, double v, double q) {
+    const double inv_q = 1.0 / q;
+    return {(h.u_prime.dx - u * h.q.dx) * inv_q, (h.v_prime.dx - v * h.q.dx) * inv_q,
+            (h.u_prime.dy - u * h.q.dy) * inv_q, (h.v_prime.dy - v * h.q.dy) * inv_q};
+}
+
+}  // namespace texr

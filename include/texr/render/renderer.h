@@ -1,0 +1,23 @@
+// One frame: vertex stage, clipping, triangle setup, scanline walk, shading (DESIGN.md).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "texr/render/framebuffer.h"
+#include "texr/render/stats.h"
+#include "texr/scene/scene.h"
+
+namespace texr {
+
+struct RenderOptions {
+    int width = 0, height = 0;  // 0: the scene's size
+};
+
+Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+
+// Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
+// y up, looking down -z, clip z in [-w, w]).
+glm::dmat4 view_matrix(const Camera& camera);
+glm::dmat4 projection_matrix(const Camera& camera, double aspect);
+
+}  // namespace texr

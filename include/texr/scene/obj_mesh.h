@@ -1,0 +1,23 @@
+// OBJ meshes through tinyobjloader: positions, normals, UVs and per-face materials.
+#pragma once
+#include <functional>
+#include <string>
+
+#include "texr/scene/scene.h"
+
+namespace texr {
+
+// Resolves an OBJ material (by its name and its .mtl data) to an index in Scene::materials.
+struct ObjMaterialInfo {
+    std::string name;
+    Color diffuse{1.0f};
+    std::string diffuse_texture;  // map_Kd, as a path relative to the OBJ file's folder
+};
+using ObjMaterialResolver = std::function<int(const ObjMaterialInfo&)>;
+
+// Loads `path` as a Mesh. Faces are triangulated; vertices are split by (position, normal,
+// uv) index triple. `resolve` gives each face's material (called once per OBJ material and
+// once with an empty name for faces without one). Throws InputError on unreadable files.
+Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve);
+
+}  // namespace texr

@@ -1,0 +1,89 @@
+// What a scene file describes, after parsing: camera, lights, textures, materials and
+// objects. Everything here is plain data; the renderer reads it, nothing writes it back.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "texr/core/color.h"
+#include "texr/texture/image.h"
+#include "texr/texture/sampler.h"
+
+namespace texr {
+
+struct Camera {
+    glm::dvec3 eye{0.0, 0.0, 3.0};
+    glm::dvec3 target{0.0, 0.0, 0.0};
+    glm::dvec3 up{0.0, 1.0, 0.0};
+    double fov_y_degrees = 60.0;  // vertical field of view
+    double near = 0.1, far = 100.0;
+};
+
+struct Texture {
+    std::string name;
+    std::string path;
+    std::shared_ptr<const Image> image;
+    Sampler sampler;
+};
+
+enum class Lighting { none, lambert };
+
+struct Material {
+    std::string name;
+    Color color{1.0f, 1.0f, 1.0f};  // multiplies the texture, if any
+    int texture = -1;               // index into Scene::textures, or -1
+    Lighting lighting = Lighting::none;
+    bool vertex_colors = false;     // multiply by the interpolated per-vertex colour
+};
+
+struct Light {
+    enum class Kind { directional, point } kind = Kind::directional;
+    glm::dvec3 vector{0.0, -1.0, 0.0};  // direction the light travels, or its position
+    Color color{1.0f, 1.0f, 1.0f};
+};
+
+struct Vertex {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    glm::vec2 uv{0.0f};
+    Color color{1.0f};
+};
+
+struct Mesh {
+    std::string source;  // "file:line" of the line that made it, for messages
+    std::vector<Vertex> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<int> triangle_material;  // per triangle, index into Scene::materials
+    bool has_uv = false, has_normals = false, has_colors = false;
+};
+
+struct Object {
+    int mesh = -1;
+    glm::dmat4 transform{1.0};  // object -> world
+    bool cull_back = false;     // drop triangles facing away from the camera
+};
+
+struct Scene {
+    std::string path;  // the scene file
+    int width = 640, height = 480;
+    Camera camera;
+    Color background{0.0f, 0.0f, 0.0f};
+    Color ambient{0.0f, 0.0f, 0.0f};
+    std::vector<Texture> textures;
+    std::vector<Material> materials;
+    std::vector<Light> lights;
+    std::vector<Mesh> meshes;
+    std::vector<Object> objects;
+};
+
+// Largest frame texr renders: each side at most 16384 and at most 64 Mpixel in all.
+constexpr int max_image_side = 16384;
+constexpr long long max_image_pixels = 64LL * 1024 * 1024;
+
+}  // namespace texr

@@ -1,0 +1,221 @@
+// texr command line: texr render SCENE [-o out/NAME.png|.ppm] [--size WxH] [--repeat N] [--stats]
+// Exit codes: 0 success, 1 bad input or failed output (one message on stderr), 2 usage error.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "texr/core/error.h"
+#include "texr/io/frame_writer.h"
+#include "texr/render/needs.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
+
+namespace {
+
+const char* main_help =
+    "texr - a software rasterizer that teaches and performs texturing\n"
+    "\n"
+    "usage: texr <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  render SCENE    render a scene file to a PNG or PPM frame\n"
+    "\n"
+    "options:\n"
+    "  -h, --help      show this help (texr render --help for the command's options)\n"
+    "  --version       print the version\n"
+    "\n"
+    "The scene format is described in docs/scene-format.md.\n";
+
+const char* render_help =
+    "usage: texr render SCENE [options]\n"
+    "\n"
+    "Renders the scene file SCENE and writes one frame.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output PATH   output file; .png or .ppm (binary P6) by its extension\n"
+    "                      (default: out/<scene name>.png)\n"
+    "  --size WxH          frame size in pixels, overriding the scene's 'size' line\n"
+    "                      (each side 1..16384, at most 67108864 pixels)\n"
+    "  --repeat N          render the frame N times and print the median frame time\n"
+    "                      (default 1)\n"
+    "  --stats             print counters (triangles in / clipped / culled, spans,\n"
+    "                      pixels shaded, texels fetched), what each material needs,\n"
+    "                      and the time of each stage\n"
+    "  -h, --help          show this help\n"
+    "\n"
+    "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
+
+struct UsageError {
+    std::string message;
+};
+
+struct RenderArguments {
+    std::string scene, output;
+    int width = 0, height = 0, repeat = 1;
+    bool stats = false;
+};
+
+int parse_positive(const std::string& text, const std::string& option) {
+    std::size_t used = 0;
+    long long value = 0;
+    try {
+        value = std::stoll(text, &used);
+    } catch (...) {
+        used = 0;
+    }
+    if (used != text.size() || text.empty() || value < 1 || value > 1000000000LL)
+        throw UsageError{option + " expects a positive whole number, got '" + text + "'"};
+    return int(value);
+}
+
+void parse_size(const std::string& text, RenderArguments& args) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
+    const std::string w = text.substr(0, x), h = text.substr(x + 1);
+    long long width = 0, height = 0;
+    try {
+        std::size_t used_w = 0, used_h = 0;
+        width = std::stoll(w, &used_w);
+        height = std::stoll(h, &used_h);
+        if (used_w != w.size() || used_h != h.size()) throw 0;
+    } catch (...) {
+        throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
+    }
+    if (width < 1 || height < 1 || width > texr::max_image_side || height > texr::max_image_side ||
+        width * height > texr::max_image_pixels)
+        throw UsageError{"--size " + text + " is out of range: each side must be 1.." +
+                         std::to_string(texr::max_image_side) + " and the frame at most " +
+                         std::to_string(texr::max_image_pixels) + " pixels"};
+    args.width = int(width);
+    args.height = int(height);
+}
+
+std::string default_output(const std::string& scene) {
+    std::string name = scene.substr(scene.find_last_of('/') + 1);
+    const auto dot = name.find_last_of('.');
+    if (dot != std::string::npos && dot > 0) name = name.substr(0, dot);
+    return "out/" + name + ".png";
+}
+
+RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
+    RenderArguments args;
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+        const std::string& a = argv[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= argv.size()) throw UsageError{a + " needs a value"};
+            return argv[++i];
+        };
+        if (a == "-o" || a == "--output") args.output = value();
+        else if (a == "--size") parse_size(value(), args);
+        else if (a == "--repeat") args.repeat = parse_positive(value(), "--repeat");
+        else if (a == "--stats") args.stats = true;
+        else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option '" + a + "' for 'texr render'"};
+        else if (args.scene.empty()) args.scene = a;
+        else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
+    }
+    if (args.scene.empty()) throw UsageError{"texr render needs a scene file"};
+    if (args.output.empty()) args.output = default_output(args.scene);
+    texr::frame_format_for(args.output);  // reject a bad extension before any work
+    return args;
+}
+
+double milliseconds(std::chrono::steady_clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+}
+
+void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double load_ms, double write_ms, int frames) {
+    const auto per_frame = [&](std::uint64_t v) { return v / std::uint64_t(frames); };
+    std::printf("triangles in       %llu\n", (unsigned long long)per_frame(s.triangles_in));
+    std::printf("triangles clipped  %llu\n", (unsigned long long)per_frame(s.triangles_clipped));
+    std::printf("triangles culled   %llu\n", (unsigned long long)per_frame(s.triangles_culled));
+    std::printf("triangles dropped  %llu  (NaN/Inf or zero area)\n", (unsigned long long)per_frame(s.triangles_dropped));
+    std::printf("triangles set up   %llu\n", (unsigned long long)per_frame(s.triangles_set_up));
+    std::printf("spans              %llu\n", (unsigned long long)per_frame(s.spans));
+    std::printf("pixels shaded      %llu\n", (unsigned long long)per_frame(s.pixels_shaded));
+    std::printf("texels fetched     %llu\n", (unsigned long long)per_frame(s.texels_fetched));
+    for (const texr::Material& m : scene.materials)
+        std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
+    std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
+    std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);
+    std::printf("time raster        %.3f ms  (clip, setup, spans, shading)\n", 1000.0 * s.seconds_raster / frames);
+    std::printf("time write         %.3f ms\n", write_ms);
+}
+
+int run_render(const std::vector<std::string>& argv) {
+    for (const auto& a : argv)
+        if (a == "-h" || a == "--help") {
+            std::fputs(render_help, stdout);
+            return 0;
+        }
+    const RenderArguments args = parse_render_arguments(argv);
+    using Clock = std::chrono::steady_clock;
+
+    const auto load_start = Clock::now();
+    const texr::Scene scene = texr::load_scene(args.scene);
+    const double load_ms = milliseconds(Clock::now() - load_start);
+
+    texr::RenderOptions options;
+    options.width = args.width;
+    options.height = args.height;
+    texr::RenderStats stats;
+    std::vector<double> frame_ms;
+    texr::Framebuffer frame(1, 1, {});
+    for (int i = 0; i < args.repeat; ++i) {
+        const auto start = Clock::now();
+        frame = texr::render(scene, options, stats);
+        frame_ms.push_back(milliseconds(Clock::now() - start));
+    }
+    const auto write_start = Clock::now();
+    texr::write_frame(frame, args.output);
+    const double write_ms = milliseconds(Clock::now() - write_start);
+
+    std::sort(frame_ms.begin(), frame_ms.end());
+    const double median = frame_ms.size() % 2 ? frame_ms[frame_ms.size() / 2]
+                                              : 0.5 * (frame_ms[frame_ms.size() / 2 - 1] + frame_ms[frame_ms.size() / 2]);
+    std::printf("wrote %s (%dx%d)\n", args.output.c_str(), frame.width, frame.height);
+    if (args.repeat > 1)
+        std::printf("median frame time %.3f ms over %d frames (min %.3f, max %.3f)\n", median, args.repeat,
+                    frame_ms.front(), frame_ms.back());
+    else
+        std::printf("frame time %.3f ms\n", median);
+    if (args.stats) print_stats(scene, stats, load_ms, write_ms, args.repeat);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    try {
+        if (args.empty()) {
+            std::fputs(main_help, stderr);
+            return 2;
+        }
+        const std::string command = args[0];
+        if (command == "-h" || command == "--help" || command == "help") {
+            std::fputs(main_help, stdout);
+            return 0;
+        }
+        if (command == "--version") {
+            std::puts("texr 0.1");
+            return 0;
+        }
+        if (command == "render") return run_render({args.begin() + 1, args.end()});
+        throw UsageError{"unknown command '" + command + "' (try texr --help)"};
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "texr: %s\n", e.message.c_str());
+        return 2;
+    } catch (const texr::InputError& e) {
+        std::fprintf(stderr, "texr: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "texr: out of memory\n");
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "texr: internal error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,297 @@
+// The frame, top to bottom (DESIGN.md, "One frame"): vertex stage -> homogeneous clipping ->
+// viewport and 1/256-pixel snapping -> triangle setup (edge functions, homography, planes)
+// -> scanline walk -> shading -> framebuffer.
+#include "texr/render/renderer.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
+
+#include "texr/raster/clip.h"
+#include "texr/raster/edges.h"
+#include "texr/raster/homography.h"
+#include "texr/render/needs.h"
+#include "texr/texture/reconstruct.h"
+
+namespace texr {
+
+void RenderStats::add_counters(const RenderStats& o) {
+    triangles_in += o.triangles_in;
+    triangles_clipped += o.triangles_clipped;
+    triangles_culled += o.triangles_culled;
+    triangles_dropped += o.triangles_dropped;
+    triangles_set_up += o.triangles_set_up;
+    spans += o.spans;
+    pixels_shaded += o.pixels_shaded;
+    texels_fetched += o.texels_fetched;
+}
+
+glm::dmat4 view_matrix(const Camera& camera) { return glm::lookAtRH(camera.eye, camera.target, camera.up); }
+
+glm::dmat4 projection_matrix(const Camera& camera, double aspect) {
+    return glm::perspectiveRH_NO(glm::radians(camera.fov_y_degrees), aspect, camera.near, camera.far);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// What one draw (a material on a mesh) shades with.
+struct DrawContext {
+    const Scene& scene;
+    const Material& material;
+    const Texture* texture;  // null for an untextured material
+};
+
+// Everything the span walk needs of one screen triangle.
+struct TriangleSetup {
+    TriangleEdges edges;
+    Plane depth;             // window depth, affine in screen space
+    TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
+    std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
+};
+
+template <Needs N>
+Color shade(const DrawContext& d, double u, double v, const glm::dvec3& normal, const glm::dvec3& color,
+            const glm::dvec3& world) {
+    Color c = d.material.color;
+    if constexpr ((N & need_uv) != 0) c *= Color(sample(*d.texture->image, d.texture->sampler, u, v));
+    if constexpr ((N & need_color) != 0) c *= Color(color);
+    if (d.material.lighting == Lighting::lambert) {
+        Color irradiance = d.scene.ambient;
+        if constexpr ((N & need_normal) != 0) {
+            const glm::dvec3 n = glm::normalize(normal);
+            for (const Light& light : d.scene.lights) {
+                glm::dvec3 to_light = -light.vector;
+                if constexpr ((N & need_world_position) != 0)
+                    if (light.kind == Light::Kind::point) to_light = glm::normalize(light.vector - world);
+                irradiance += light.color * float(std::max(0.0, glm::dot(n, to_light)));
+            }
+        }
+        c *= irradiance;
+    }
+    (void)u, (void)v, (void)normal, (void)color, (void)world;
+    return c;
+}
+
+glm::dvec3 at(const std::array<Plane, 3>& p, double x, double y) { return {p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)}; }
+glm::dvec3 dx_of(const std::array<Plane, 3>& p) { return {p[0].dx, p[1].dx, p[2].dx}; }
+
+// The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
+// pixel centre come from the plane equations; within the span they are stepped by their
+// constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
+template <Needs N>
+void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+    constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
+    const double xc = span.x0 + 0.5, yc = y + 0.5;  // prestep: the first pixel centre of the span
+    double depth = s.depth.at(xc, yc);
+    double u_prime = 0, v_prime = 0, q = 0;
+    glm::dvec3 normal(0), color(0), world(0);
+    if constexpr (perspective) q = s.h.q.at(xc, yc);
+    if constexpr ((N & need_uv) != 0) u_prime = s.h.u_prime.at(xc, yc), v_prime = s.h.v_prime.at(xc, yc);
+    if constexpr ((N & need_normal) != 0) normal = at(s.normal, xc, yc);
+    if constexpr ((N & need_color) != 0) color = at(s.color, xc, yc);
+    if constexpr ((N & need_world_position) != 0) world = at(s.world, xc, yc);
+
+    float* depth_row = &fb.depth[fb.index(0, y)];
+    Color* color_row = &fb.color[fb.index(0, y)];
+    std::uint64_t shaded = 0;
+    for (int x = span.x0; x < span.x1; ++x) {
+        if (float(depth) < depth_row[x]) {
+            depth_row[x] = float(depth);
+            double inv_q = 1.0;
+            if constexpr (perspective) inv_q = 1.0 / q;  // the one divide per pixel
+            color_row[x] = shade<N>(d, u_prime * inv_q, v_prime * inv_q, normal * inv_q, color * inv_q, world * inv_q);
+            ++shaded;
+        }
+        depth += s.depth.dx;
+        if constexpr (perspective) q += s.h.q.dx;
+        if constexpr ((N & need_uv) != 0) u_prime += s.h.u_prime.dx, v_prime += s.h.v_prime.dx;
+        if constexpr ((N & need_normal) != 0) normal += dx_of(s.normal);
+        if constexpr ((N & need_color) != 0) color += dx_of(s.color);
+        if constexpr ((N & need_world_position) != 0) world += dx_of(s.world);
+    }
+    stats.pixels_shaded += shaded;
+    if constexpr ((N & need_uv) != 0)
+        stats.texels_fetched += shaded * std::uint64_t(texels_per_lookup(d.texture->sampler.filter));
+}
+
+template <Needs N>
+void walk_triangle(const DrawContext& d, const TriangleSetup& s, Framebuffer& fb, RenderStats& stats) {
+    int first = 0, last = -1;
+    row_range(s.edges, fb.height, first, last);
+    for (int y = first; y <= last; ++y) {
+        const Span span = span_for_row(s.edges, y, fb.width);
+        if (span.x0 >= span.x1) continue;
+        ++stats.spans;
+        shade_span<N>(d, s, y, span, fb, stats);
+    }
+}
+
+// One compiled walk per Needs set.
+using WalkFunction = void (*)(const DrawContext&, const TriangleSetup&, Framebuffer&, RenderStats&);
+template <std::size_t... I>
+constexpr std::array<WalkFunction, sizeof...(I)> make_walk_table(std::index_sequence<I...>) {
+    return {&walk_triangle<Needs(I)>...};
+}
+constexpr auto walk_table = make_walk_table(std::make_index_sequence<need_all + 1>());
+
+// Object-space vertex data carried to clip space, per object.
+struct TransformedMesh {
+    std::vector<glm::dvec4> clip;
+    std::vector<glm::dvec3> world, normal;  // filled only when a material needs them
+};
+
+bool finite(const glm::dvec4& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+}
+
+template <typename Get>
+std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, const std::array<std::uint32_t, 3>& tri,
+                                    Get get) {
+    std::array<double, 3> out{};
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) out[std::size_t(k)] += weights[std::size_t(k)][j] * double(get(tri[std::size_t(j)]));
+    return out;
+}
+
+class FrameRenderer {
+public:
+    FrameRenderer(const Scene& scene, int width, int height, Framebuffer& fb, RenderStats& stats)
+        : scene_(scene), fb_(fb), stats_(stats), width_(width), height_(height), band_(guard_band_for(width, height)) {
+        view_projection_ = projection_matrix(scene.camera, double(width) / double(height)) * view_matrix(scene.camera);
+        for (const Material& m : scene.materials) needs_.push_back(needs_of(m, scene));
+    }
+
+    void draw(const Object& object) {
+        const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
+        Needs mesh_needs = 0;
+        for (int m : mesh.triangle_material) mesh_needs |= needs_[std::size_t(m)];
+
+        const auto vertex_start = Clock::now();
+        transform(mesh, object, mesh_needs);
+        stats_.seconds_vertex += seconds_since(vertex_start);
+
+        const auto raster_start = Clock::now();
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) draw_triangle(mesh, t, object.cull_back);
+        stats_.seconds_raster += seconds_since(raster_start);
+    }
+
+private:
+    void transform(const Mesh& mesh, const Object& object, Needs needs) {
+        const glm::dmat4 to_clip = view_projection_ * object.transform;
+        const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
+        const std::size_t n = mesh.vertices.size();
+        v_.clip.resize(n);
+        v_.world.resize((needs & need_world_position) ? n : 0);
+        v_.normal.resize((needs & need_normal) ? n : 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
+            v_.clip[i] = to_clip * p;
+            if (needs & need_world_position) v_.world[i] = glm::dvec3(object.transform * p);
+            if (needs & need_normal) v_.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
+        }
+    }
+
+    void draw_triangle(const Mesh& mesh, std::size_t t, bool cull_back) {
+        ++stats_.triangles_in;
+        const auto& tri = mesh.triangles[t];
+        const glm::dvec4& a = v_.clip[tri[0]];
+        const glm::dvec4& b = v_.clip[tri[1]];
+        const glm::dvec4& c = v_.clip[tri[2]];
+        if (!finite(a) || !finite(b) || !finite(c)) { ++stats_.triangles_dropped; return; }
+        const ClipResult result = clip_triangle(a, b, c, band_, polygon_);
+        if (result == ClipResult::outside) { ++stats_.triangles_culled; return; }
+        if (result == ClipResult::clipped) ++stats_.triangles_clipped;
+
+        const int material = mesh.triangle_material[t];
+        const DrawContext d{scene_, scene_.materials[std::size_t(material)],
+                            scene_.materials[std::size_t(material)].texture >= 0
+                                ? &scene_.textures[std::size_t(scene_.materials[std::size_t(material)].texture)]
+                                : nullptr};
+        const Needs needs = needs_[std::size_t(material)];
+        // The clipped polygon is convex: a fan from its first vertex.
+        for (int i = 1; i + 1 < polygon_.count; ++i)
+            draw_piece(mesh, tri, {polygon_.vertices[0], polygon_.vertices[std::size_t(i)], polygon_.vertices[std::size_t(i + 1)]},
+                       d, needs, cull_back);
+    }
+
+    void draw_piece(const Mesh& mesh, const std::array<std::uint32_t, 3>& tri, const std::array<ClipVertex, 3>& piece,
+                    const DrawContext& d, Needs needs, bool cull_back) {
+        // Viewport: NDC -> pixels (row 0 at the top), snapped to 1/256 pixel.
+        std::array<SnappedVertex, 3> snapped;
+        std::array<glm::dvec2, 3> screen;
+        std::array<double, 3> inv_w, depth;
+        std::array<glm::dvec3, 3> weights;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec4& p = piece[std::size_t(k)].position;
+            inv_w[std::size_t(k)] = 1.0 / p.w;
+            const double x = (p.x * inv_w[std::size_t(k)] * 0.5 + 0.5) * width_;
+            const double y = (0.5 - p.y * inv_w[std::size_t(k)] * 0.5) * height_;
+            snapped[std::size_t(k)] = {snap(x), snap(y)};
+            screen[std::size_t(k)] = {double(snapped[std::size_t(k)].x) / subpixel_scale, double(snapped[std::size_t(k)].y) / subpixel_scale};
+            depth[std::size_t(k)] = p.z * inv_w[std::size_t(k)] * 0.5 + 0.5;
+            weights[std::size_t(k)] = piece[std::size_t(k)].weights;
+        }
+        TriangleSetup s;
+        if (!triangle_edges(snapped, s.edges)) { ++stats_.triangles_dropped; return; }
+        // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
+        // front-facing triangle has negative signed area there.
+        if (cull_back && twice_signed_area(snapped) > 0) { ++stats_.triangles_culled; return; }
+        if (off_screen(snapped)) { ++stats_.triangles_culled; return; }
+        ++stats_.triangles_set_up;
+
+        const auto lambda = barycentric_planes(screen);
+        s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
+        s.h.q = over_w_plane(lambda, {1.0, 1.0, 1.0}, inv_w);
+        if (needs & need_uv) {
+            s.h.u_prime = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; }), inv_w);
+            s.h.v_prime = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; }), inv_w);
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (needs & need_normal)
+                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_.normal[i][axis]; }), inv_w);
+            if (needs & need_color)
+                s.color[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].color[axis]; }), inv_w);
+            if (needs & need_world_position)
+                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_.world[i][axis]; }), inv_w);
+        }
+        walk_table[needs](d, s, fb_, stats_);
+    }
+
+    bool off_screen(const std::array<SnappedVertex, 3>& v) const {
+        const std::int64_t half = subpixel_scale / 2;  // pixel centres are at 256 k + 128
+        const std::int64_t min_x = std::min({v[0].x, v[1].x, v[2].x}), max_x = std::max({v[0].x, v[1].x, v[2].x});
+        const std::int64_t min_y = std::min({v[0].y, v[1].y, v[2].y}), max_y = std::max({v[0].y, v[1].y, v[2].y});
+        return max_x < half || max_y < half || min_x > (width_ - 1) * subpixel_scale + half ||
+               min_y > (height_ - 1) * subpixel_scale + half;
+    }
+
+    const Scene& scene_;
+    Framebuffer& fb_;
+    RenderStats& stats_;
+    int width_, height_;
+    GuardBand band_;
+    glm::dmat4 view_projection_;
+    std::vector<Needs> needs_;
+    TransformedMesh v_;
+    ClipPolygon polygon_;
+};
+
+}  // namespace
+
+Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
+    const int width = options.width > 0 ? options.width : scene.width;
+    const int height = options.height > 0 ? options.height : scene.height;
+    Framebuffer fb(width, height, scene.background);
+    FrameRenderer frame(scene, width, height, fb, stats);
+    for (const Object& object : scene.objects) frame.draw(object);
+    return fb;
+}
+
+}  // namespace texr

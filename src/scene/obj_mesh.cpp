@@ -1,0 +1,107 @@
+// OBJ loading with tinyobjloader (see include/texr/scene/obj_mesh.h).
+#include "texr/scene/obj_mesh.h"
+
+#include <tiny_obj_loader.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <tuple>
+
+#include "texr/core/error.h"
+
+namespace texr {
+
+namespace {
+
+std::string folder_of(const std::string& path) {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// First line of tinyobjloader's message, without its trailing newline.
+std::string first_line(const std::string& text) {
+    const auto end = text.find('\n');
+    return end == std::string::npos ? text : text.substr(0, end);
+}
+
+}  // namespace
+
+Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
+    if (!std::ifstream(path)) throw InputError(path, 0, "cannot open OBJ file");
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = folder_of(path);
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path, config))
+        throw InputError(path, 0, "not a readable OBJ file: " + first_line(reader.Error()));
+
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    const auto& obj_materials = reader.GetMaterials();
+
+    // OBJ material id (or -1) -> scene material index, resolved on first use.
+    std::map<int, int> material_of;
+    auto scene_material = [&](int id) {
+        auto it = material_of.find(id);
+        if (it != material_of.end()) return it->second;
+        ObjMaterialInfo info;
+        if (id >= 0 && id < int(obj_materials.size())) {
+            const tinyobj::material_t& m = obj_materials[std::size_t(id)];
+            info.name = m.name;
+            info.diffuse = {float(m.diffuse[0]), float(m.diffuse[1]), float(m.diffuse[2])};
+            if (!m.diffuse_texname.empty()) info.diffuse_texture = folder_of(path) + m.diffuse_texname;
+        }
+        const int index = resolve(info);
+        material_of.emplace(id, index);
+        return index;
+    };
+
+    Mesh mesh;
+    mesh.source = path;
+    mesh.has_uv = !attrib.texcoords.empty();
+    mesh.has_normals = !attrib.normals.empty();
+    std::map<std::tuple<int, int, int>, std::uint32_t> vertex_of;
+    const int position_count = int(attrib.vertices.size() / 3);
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const auto& indices = shape.mesh.indices;
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            std::array<std::uint32_t, 3> triangle{};
+            bool face_has_uv = true, face_has_normal = true;
+            for (int k = 0; k < 3; ++k) {
+                const tinyobj::index_t& idx = indices[3 * f + std::size_t(k)];
+                if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
+                    throw InputError(path, 0, "face refers to a vertex that does not exist");
+                face_has_uv = face_has_uv && idx.texcoord_index >= 0;
+                face_has_normal = face_has_normal && idx.normal_index >= 0;
+                const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
+                auto found = vertex_of.find(key);
+                if (found == vertex_of.end()) {
+                    Vertex v;
+                    const std::size_t p = 3 * std::size_t(idx.vertex_index);
+                    v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
+                    if (idx.normal_index >= 0) {
+                        const std::size_t n = 3 * std::size_t(idx.normal_index);
+                        v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
+                    }
+                    if (idx.texcoord_index >= 0) {
+                        const std::size_t t = 2 * std::size_t(idx.texcoord_index);
+                        v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
+                    }
+                    found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
+                    mesh.vertices.push_back(v);
+                }
+                triangle[std::size_t(k)] = found->second;
+            }
+            mesh.has_uv = mesh.has_uv && face_has_uv;
+            mesh.has_normals = mesh.has_normals && face_has_normal;
+            mesh.triangles.push_back(triangle);
+            const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
+            mesh.triangle_material.push_back(scene_material(id));
+        }
+    }
+    if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
+    return mesh;
+}
+
+}  // namespace texr

@@ -1,0 +1,436 @@
+// Scene file parser (format: docs/scene-format.md).
+#include "texr/scene/parser.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "texr/core/error.h"
+#include "texr/scene/obj_mesh.h"
+
+namespace texr {
+
+namespace {
+
+// --- Tokens of one logical line ------------------------------------------------------------
+struct Line {
+    int number = 0;
+    std::vector<std::string> tokens;
+};
+
+// Splits on whitespace; "double quotes" keep spaces; '#' outside quotes ends the line.
+std::vector<std::string> tokenize(const std::string& text, const std::string& file, int number) {
+    std::vector<std::string> tokens;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const char ch = text[i];
+        if (ch == ' ' || ch == '\t' || ch == '\r') { ++i; continue; }
+        if (ch == '#') break;
+        std::string token;
+        if (ch == '"') {
+            const auto close = text.find('"', i + 1);
+            if (close == std::string::npos) throw InputError(file, number, "unterminated quoted string");
+            token = text.substr(i + 1, close - i - 1);
+            i = close + 1;
+        } else {
+            while (i < text.size() && text[i] != ' ' && text[i] != '\t' && text[i] != '\r' && text[i] != '#')
+                token += text[i++];
+        }
+        tokens.push_back(token);
+    }
+    return tokens;
+}
+
+std::vector<Line> read_lines(std::istream& in, const std::string& file) {
+    std::vector<Line> lines;
+    std::string raw, pending;
+    int number = 0, start = 0;
+    while (std::getline(in, raw)) {
+        ++number;
+        if (pending.empty()) start = number;
+        if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+        const bool continued = !raw.empty() && raw.back() == '\\';
+        if (continued) raw.pop_back();
+        pending += raw + " ";
+        if (continued) continue;
+        Line line{start, tokenize(pending, file, start)};
+        pending.clear();
+        if (!line.tokens.empty()) lines.push_back(std::move(line));
+    }
+    if (!pending.empty()) throw InputError(file, start, "line ends with '\\' but the file ends there");
+    return lines;
+}
+
+// --- Reading one line's values, with messages that say what was expected --------------------
+class Cursor {
+public:
+    Cursor(const Line& line, const std::string& file) : line_(line), file_(file) {}
+
+    [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, line_.number, message); }
+    bool done() const { return next_ >= line_.tokens.size(); }
+    int line_number() const { return line_.number; }
+    const std::string& peek() const { return line_.tokens[next_]; }
+
+    std::string word(const std::string& what) {
+        if (done()) fail("expected " + what + " after '" + line_.tokens[next_ - 1] + "'");
+        return line_.tokens[next_++];
+    }
+
+    double number(const std::string& what) {
+        const std::string text = word(what);
+        double value = 0.0;
+        if (!parse_number(text, value)) fail("expected " + what + ", found '" + text + "'");
+        return value;
+    }
+
+    bool next_is_number() const {
+        double ignored;
+        return !done() && parse_number(peek(), ignored);
+    }
+
+    glm::dvec3 vec3(const std::string& what) {
+        glm::dvec3 v;
+        for (int i = 0; i < 3; ++i) v[i] = number("3 numbers for " + what);
+        return v;
+    }
+
+    Color color(const std::string& what) {
+        // Colours in scene files are sRGB values (as a colour picker shows them), in [0, 1]
+        // or above for bright lights; texr works on their linear values.
+        const glm::dvec3 c = vec3(what);
+        for (int i = 0; i < 3; ++i)
+            if (c[i] < 0.0) fail(what + " must not be negative");
+        return {srgb_to_linear(float(c.x)), srgb_to_linear(float(c.y)), srgb_to_linear(float(c.z))};
+    }
+
+private:
+    static bool parse_number(const std::string& text, double& value) {
+        std::istringstream s(text);
+        s >> value;
+        return s && s.peek() == std::char_traits<char>::eof() && std::isfinite(value);
+    }
+    const Line& line_;
+    const std::string& file_;
+    std::size_t next_ = 1;
+};
+
+template <typename Enum>
+Enum choose(Cursor& c, const std::string& what, const std::map<std::string, Enum>& choices) {
+    const std::string w = c.word(what);
+    auto it = choices.find(w);
+    if (it != choices.end()) return it->second;
+    std::string names;
+    for (const auto& [name, value] : choices) names += (names.empty() ? "" : ", ") + name;
+    c.fail("unknown " + what + " '" + w + "' (expected one of: " + names + ")");
+}
+
+const std::map<std::string, Wrap> wrap_names = {
+    {"repeat", Wrap::repeat}, {"mirror", Wrap::mirror}, {"clamp", Wrap::clamp}, {"border", Wrap::border}};
+
+std::string folder_of(const std::string& path) {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// --- The parser --------------------------------------------------------------------------------
+class Parser {
+public:
+    Parser(Scene& scene, const std::string& file) : scene_(scene), file_(file), folder_(folder_of(file)) {}
+
+    void command(const Line& line) {
+        Cursor c(line, file_);
+        const std::string& name = line.tokens[0];
+        if (name == "size") size(c);
+        else if (name == "camera") camera(c);
+        else if (name == "background") scene_.background = c.color("background colour");
+        else if (name == "ambient") scene_.ambient = c.color("ambient colour");
+        else if (name == "texture") texture(c);
+        else if (name == "material") material(c);
+        else if (name == "light") light(c);
+        else if (name == "mesh") mesh(c);
+        else if (name == "triangle") polygon(c, 3);
+        else if (name == "quad") polygon(c, 4);
+        else c.fail("unknown command '" + name +
+                    "' (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)");
+        if (!c.done()) c.fail("unexpected '" + c.peek() + "' at the end of '" + name + "'");
+    }
+
+private:
+    void size(Cursor& c) {
+        const double w = c.number("the width"), h = c.number("the height");
+        check_image_size(c, w, h);
+        scene_.width = int(w);
+        scene_.height = int(h);
+    }
+
+    static void check_image_size(Cursor& c, double w, double h) {
+        if (w != std::floor(w) || h != std::floor(h) || w < 1 || h < 1 || w > max_image_side || h > max_image_side ||
+            w * h > double(max_image_pixels))
+            c.fail("image size must be whole numbers from 1 to " + std::to_string(max_image_side) +
+                   " per side and at most " + std::to_string(max_image_pixels) + " pixels");
+    }
+
+    void camera(Cursor& c) {
+        Camera& cam = scene_.camera;
+        while (!c.done()) {
+            const std::string key = c.word("a camera option");
+            if (key == "eye") cam.eye = c.vec3("eye");
+            else if (key == "target") cam.target = c.vec3("target");
+            else if (key == "up") cam.up = c.vec3("up");
+            else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees");
+            else if (key == "near") cam.near = c.number("the near distance");
+            else if (key == "far") cam.far = c.number("the far distance");
+            else c.fail("unknown camera option '" + key + "' (expected eye, target, up, fov, near or far)");
+        }
+        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) c.fail("fov must be between 0 and 180 degrees");
+        if (!(cam.near > 0.0 && cam.far > cam.near)) c.fail("camera needs 0 < near < far");
+        const glm::dvec3 view = cam.target - cam.eye;
+        if (glm::length(view) == 0.0) c.fail("camera eye and target must differ");
+        if (glm::length(glm::cross(view, cam.up)) == 0.0) c.fail("camera up must not be parallel to the view direction");
+    }
+
+    void texture(Cursor& c) {
+        Texture t;
+        t.name = c.word("a texture name");
+        if (texture_index_.count(t.name)) c.fail("texture '" + t.name + "' is defined twice");
+        ColorSpace space = ColorSpace::srgb;
+        while (!c.done()) {
+            const std::string key = c.word("a texture option");
+            if (key == "file") t.path = folder_ + c.word("an image file name");
+            else if (key == "filter")
+                t.sampler.filter = choose<Filter>(c, "filter", {{"nearest", Filter::nearest}, {"bilinear", Filter::bilinear}});
+            else if (key == "wrap") t.sampler.wrap_u = t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
+            else if (key == "wrap_u") t.sampler.wrap_u = choose(c, "wrap mode", wrap_names);
+            else if (key == "wrap_v") t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
+            else if (key == "border") {
+                const Color rgb = c.color("border colour");
+                t.sampler.border = Color4(rgb, float(c.number("the border alpha")));
+            } else if (key == "registration")
+                t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
+            else if (key == "colorspace")
+                space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
+            else c.fail("unknown texture option '" + key + "' (expected file, filter, wrap, wrap_u, wrap_v, border, registration or colorspace)");
+        }
+        if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
+        t.image = image(c, t.path, space);
+        texture_index_[t.name] = int(scene_.textures.size());
+        scene_.textures.push_back(std::move(t));
+    }
+
+    std::shared_ptr<const Image> image(Cursor& c, const std::string& path, ColorSpace space) {
+        const std::string key = path + (space == ColorSpace::srgb ? "|srgb" : "|linear");
+        auto it = images_.find(key);
+        if (it != images_.end()) return it->second;
+        try {
+            auto loaded = std::make_shared<const Image>(load_image(path, space));
+            images_[key] = loaded;
+            return loaded;
+        } catch (const InputError& e) {
+            c.fail(e.what());
+        }
+    }
+
+    void material(Cursor& c) {
+        Material m;
+        m.name = c.word("a material name");
+        if (material_index_.count(m.name)) c.fail("material '" + m.name + "' is defined twice");
+        while (!c.done()) {
+            const std::string key = c.word("a material option");
+            if (key == "color") m.color = c.color("material colour");
+            else if (key == "texture") {
+                const std::string name = c.word("a texture name");
+                auto it = texture_index_.find(name);
+                if (it == texture_index_.end()) c.fail("unknown texture '" + name + "' (define it with a 'texture' line first)");
+                m.texture = it->second;
+            } else if (key == "lighting")
+                m.lighting = choose<Lighting>(c, "lighting", {{"none", Lighting::none}, {"lambert", Lighting::lambert}});
+            else if (key == "vertex_colors")
+                m.vertex_colors = choose<bool>(c, "vertex_colors setting", {{"on", true}, {"off", false}});
+            else c.fail("unknown material option '" + key + "' (expected color, texture, lighting or vertex_colors)");
+        }
+        material_index_[m.name] = int(scene_.materials.size());
+        scene_.materials.push_back(m);
+    }
+
+    void light(Cursor& c) {
+        Light l;
+        l.kind = choose<Light::Kind>(c, "light kind", {{"directional", Light::Kind::directional}, {"point", Light::Kind::point}});
+        l.vector = c.vec3(l.kind == Light::Kind::directional ? "the light direction" : "the light position");
+        if (l.kind == Light::Kind::directional) {
+            if (glm::length(l.vector) == 0.0) c.fail("light direction must not be zero");
+            l.vector = glm::normalize(l.vector);
+        }
+        while (!c.done()) {
+            const std::string key = c.word("a light option");
+            if (key == "color") l.color = c.color("light colour");
+            else c.fail("unknown light option '" + key + "' (expected color)");
+        }
+        scene_.lights.push_back(l);
+    }
+
+    int material_named(Cursor& c, const std::string& name) {
+        auto it = material_index_.find(name);
+        if (it == material_index_.end()) c.fail("unknown material '" + name + "' (define it with a 'material' line first)");
+        return it->second;
+    }
+
+    int default_material() {
+        if (default_material_ < 0) {
+            Material m;
+            m.name = "(default)";
+            m.color = Color(srgb_to_linear(0.8f));
+            default_material_ = int(scene_.materials.size());
+            scene_.materials.push_back(m);
+        }
+        return default_material_;
+    }
+
+    // Object options shared by mesh, triangle and quad. Returns false for an unknown key.
+    bool object_option(Cursor& c, const std::string& key, Object& object, int& material) {
+        if (key == "material") material = material_named(c, c.word("a material name"));
+        else if (key == "cull") object.cull_back = choose<bool>(c, "cull mode", {{"back", true}, {"none", false}});
+        else if (key == "translate") object.transform = glm::translate(glm::dmat4(1.0), c.vec3("translate")) * object.transform;
+        else if (key == "rotate") {
+            const double degrees = c.number("the rotation angle in degrees");
+            const glm::dvec3 axis = c.vec3("the rotation axis");
+            if (glm::length(axis) == 0.0) c.fail("rotation axis must not be zero");
+            object.transform = glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(axis)) * object.transform;
+        } else if (key == "scale") {
+            glm::dvec3 s(c.number("a scale factor"));
+            if (c.next_is_number()) { s.y = c.number("3 scale factors"); s.z = c.number("3 scale factors"); }
+            if (s.x == 0.0 || s.y == 0.0 || s.z == 0.0) c.fail("scale factors must not be zero");
+            object.transform = glm::scale(glm::dmat4(1.0), s) * object.transform;
+        } else return false;
+        return true;
+    }
+
+    void mesh(Cursor& c) {
+        const std::string path = folder_ + c.word("an OBJ file name");
+        Object object;
+        int material = -1;
+        while (!c.done()) {
+            const std::string key = c.word("a mesh option");
+            if (!object_option(c, key, object, material))
+                c.fail("unknown mesh option '" + key + "' (expected material, cull, translate, rotate or scale)");
+        }
+        // Each OBJ material is the scene material of the same name, else made from its .mtl.
+        auto resolve = [&](const ObjMaterialInfo& info) {
+            if (material >= 0) return material;
+            if (info.name.empty()) return default_material();
+            auto it = material_index_.find(info.name);
+            if (it != material_index_.end()) return it->second;
+            Material m;
+            m.name = info.name;
+            m.color = info.diffuse;  // .mtl Kd: taken as linear reflectance
+            if (!info.diffuse_texture.empty()) {
+                Texture t;
+                t.name = info.name + ".map_Kd";
+                t.path = info.diffuse_texture;
+                t.image = image(c, t.path, ColorSpace::srgb);
+                m.texture = int(scene_.textures.size());
+                scene_.textures.push_back(std::move(t));
+            }
+            material_index_[m.name] = int(scene_.materials.size());
+            scene_.materials.push_back(m);
+            return material_index_[m.name];
+        };
+        Mesh mesh;
+        try {
+            mesh = load_obj(path, resolve);
+        } catch (const InputError& e) {
+            c.fail(e.what());
+        }
+        mesh.source = file_ + ":" + std::to_string(c.line_number());
+        if (!mesh.has_normals) fill_smooth_normals(mesh);
+        add_object(c, std::move(mesh), object, path);
+    }
+
+    void polygon(Cursor& c, int corners) {
+        const std::string what = corners == 3 ? "triangle" : "quad";
+        Object object;
+        int material = -1;
+        Mesh mesh;
+        mesh.has_uv = true;
+        bool any_normal = false;
+        while (!c.done()) {
+            const std::string key = c.word("a " + what + " option");
+            if (key == "v") {
+                if (int(mesh.vertices.size()) == corners) c.fail(what + " has more than " + std::to_string(corners) + " vertices");
+                Vertex v;
+                v.position = glm::vec3(c.vec3("the vertex position"));
+                v.uv = {float(c.number("the vertex u")), float(c.number("the vertex v"))};
+                mesh.vertices.push_back(v);
+            } else if (key == "n" || key == "c") {
+                if (mesh.vertices.empty()) c.fail("'" + key + "' belongs after a vertex 'v x y z u v'");
+                if (key == "n") { mesh.vertices.back().normal = glm::vec3(c.vec3("the vertex normal")); any_normal = true; }
+                else { mesh.vertices.back().color = c.color("the vertex colour"); mesh.has_colors = true; }
+            } else if (!object_option(c, key, object, material)) {
+                c.fail("unknown " + what + " option '" + key + "' (expected v, n, c, material, cull, translate, rotate or scale)");
+            }
+        }
+        if (int(mesh.vertices.size()) != corners)
+            c.fail(what + " needs " + std::to_string(corners) + " vertices 'v x y z u v', found " + std::to_string(mesh.vertices.size()));
+        mesh.triangles.push_back({0, 1, 2});
+        if (corners == 4) mesh.triangles.push_back({0, 2, 3});
+        mesh.triangle_material.assign(mesh.triangles.size(), material >= 0 ? material : default_material());
+        mesh.source = file_ + ":" + std::to_string(c.line_number());
+        mesh.has_normals = any_normal;
+        if (!any_normal) fill_smooth_normals(mesh);
+        add_object(c, std::move(mesh), object, what);
+    }
+
+    void add_object(Cursor& c, Mesh mesh, Object object, const std::string& what) {
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
+            if (m.texture >= 0 && !mesh.has_uv)
+                c.fail(what + " has no texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
+                       scene_.textures[std::size_t(m.texture)].name + "'");
+        }
+        object.mesh = int(scene_.meshes.size());
+        scene_.meshes.push_back(std::move(mesh));
+        scene_.objects.push_back(object);
+    }
+
+    // Area-weighted average of the face normals at each vertex (right-handed winding).
+    static void fill_smooth_normals(Mesh& mesh) {
+        std::vector<glm::dvec3> sum(mesh.vertices.size(), glm::dvec3(0.0));
+        for (const auto& t : mesh.triangles) {
+            const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            for (auto i : t) sum[i] += n;
+        }
+        for (std::size_t i = 0; i < sum.size(); ++i) {
+            const double len = glm::length(sum[i]);
+            mesh.vertices[i].normal = len > 0.0 ? glm::vec3(sum[i] / len) : glm::vec3(0.0f, 0.0f, 1.0f);
+        }
+    }
+
+    Scene& scene_;
+    const std::string& file_;
+    std::string folder_;
+    std::map<std::string, int> texture_index_, material_index_;
+    std::map<std::string, std::shared_ptr<const Image>> images_;
+    int default_material_ = -1;
+};
+
+}  // namespace
+
+Scene parse_scene(std::istream& in, const std::string& path) {
+    Scene scene;
+    scene.path = path;
+    Parser parser(scene, path);
+    for (const Line& line : read_lines(in, path)) parser.command(line);
+    if (scene.objects.empty()) throw InputError(path, 0, "scene has no objects (add a mesh, triangle or quad line)");
+    return scene;
+}
+
+Scene load_scene(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, 0, "cannot open scene file");
+    return parse_scene(in, path);
+}
+
+}  // namespace texr

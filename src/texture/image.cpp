@@ -1,0 +1,62 @@
+// Image loading with stb_image; rows are flipped so that row 0 is the bottom (v = 0).
+#include "texr/texture/image.h"
+
+#include <stb_image.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "texr/core/error.h"
+
+namespace texr {
+
+Image Image::ldr(int width, int height, ColorSpace space, std::vector<std::uint8_t> rgba) {
+    Image image;
+    image.width_ = width;
+    image.height_ = height;
+    image.space_ = space;
+    image.texels_8_ = std::move(rgba);
+    return image;
+}
+
+Image Image::hdr(int width, int height, std::vector<float> rgba) {
+    Image image;
+    image.width_ = width;
+    image.height_ = height;
+    image.space_ = ColorSpace::linear;  // Radiance files hold linear radiance
+    image.texels_f_ = std::move(rgba);
+    return image;
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> flipped_rows(const T* top_down, int width, int height) {
+    const std::size_t row = std::size_t(width) * 4;
+    std::vector<T> out(row * std::size_t(height));
+    for (int j = 0; j < height; ++j)  // file row j (from the top) becomes row height-1-j
+        std::memcpy(&out[row * std::size_t(height - 1 - j)], top_down + row * std::size_t(j),
+                    row * sizeof(T));
+    return out;
+}
+
+}  // namespace
+
+Image load_image(const std::string& path, ColorSpace space) {
+    if (!std::ifstream(path)) throw InputError(path, 0, "cannot open image file");
+    int width = 0, height = 0, channels = 0;
+    if (stbi_is_hdr(path.c_str())) {
+        float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 4);
+        if (!data) throw InputError(path, 0, std::string("not a readable image: ") + stbi_failure_reason());
+        Image image = Image::hdr(width, height, flipped_rows(data, width, height));
+        stbi_image_free(data);
+        return image;
+    }
+    unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
+    if (!data) throw InputError(path, 0, std::string("not a readable image: ") + stbi_failure_reason());
+    Image image = Image::ldr(width, height, space, flipped_rows(data, width, height));
+    stbi_image_free(data);
+    return image;
+}
+
+}  // namespace texr
