@@ -12,6 +12,7 @@
 #include "texr/raster/clip.h"
 #include "texr/raster/edges.h"
 #include "texr/raster/homography.h"
+#include "texr/raster/span_walk.h"
 #include "texr/render/needs.h"
 #include "texr/texture/reconstruct.h"
 
@@ -79,8 +80,19 @@ Color shade(const DrawContext& d, double u, double v, const glm::dvec3& normal, 
     return c;
 }
 
-glm::dvec3 at(const std::array<Plane, 3>& p, double x, double y) { return {p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)}; }
-glm::dvec3 dx_of(const std::array<Plane, 3>& p) { return {p[0].dx, p[1].dx, p[2].dx}; }
+// The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
+// pixel centre come from the plane equations; within the span they are stepped by their
+// constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
+// Three planes stepped together (a vector attribute over w).
+struct SteppedVector {
+    SteppedPlane p[3];
+    static SteppedVector start(const std::array<Plane, 3>& planes, int x0, int y) {
+        return {{SteppedPlane::start(planes[0], x0, y), SteppedPlane::start(planes[1], x0, y),
+                 SteppedPlane::start(planes[2], x0, y)}};
+    }
+    glm::dvec3 value() const { return {p[0].value, p[1].value, p[2].value}; }
+    void advance() { p[0].advance(), p[1].advance(), p[2].advance(); }
+};
 
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
 // pixel centre come from the plane equations; within the span they are stepped by their
@@ -88,33 +100,34 @@ glm::dvec3 dx_of(const std::array<Plane, 3>& p) { return {p[0].dx, p[1].dx, p[2]
 template <Needs N>
 void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
     constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
-    const double xc = span.x0 + 0.5, yc = y + 0.5;  // prestep: the first pixel centre of the span
-    double depth = s.depth.at(xc, yc);
-    double u_prime = 0, v_prime = 0, q = 0;
-    glm::dvec3 normal(0), color(0), world(0);
-    if constexpr (perspective) q = s.h.q.at(xc, yc);
-    if constexpr ((N & need_uv) != 0) u_prime = s.h.u_prime.at(xc, yc), v_prime = s.h.v_prime.at(xc, yc);
-    if constexpr ((N & need_normal) != 0) normal = at(s.normal, xc, yc);
-    if constexpr ((N & need_color) != 0) color = at(s.color, xc, yc);
-    if constexpr ((N & need_world_position) != 0) world = at(s.world, xc, yc);
+    const int x0 = span.x0;
+    SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);
+    SteppedPlane u_prime, v_prime, q;
+    SteppedVector normal{}, color{}, world{};
+    if constexpr (perspective) q = SteppedPlane::start(s.h.q, x0, y);
+    if constexpr ((N & need_uv) != 0) u_prime = SteppedPlane::start(s.h.u_prime, x0, y), v_prime = SteppedPlane::start(s.h.v_prime, x0, y);
+    if constexpr ((N & need_normal) != 0) normal = SteppedVector::start(s.normal, x0, y);
+    if constexpr ((N & need_color) != 0) color = SteppedVector::start(s.color, x0, y);
+    if constexpr ((N & need_world_position) != 0) world = SteppedVector::start(s.world, x0, y);
 
     float* depth_row = &fb.depth[fb.index(0, y)];
     Color* color_row = &fb.color[fb.index(0, y)];
     std::uint64_t shaded = 0;
     for (int x = span.x0; x < span.x1; ++x) {
-        if (float(depth) < depth_row[x]) {
-            depth_row[x] = float(depth);
+        if (float(depth.value) < depth_row[x]) {
+            depth_row[x] = float(depth.value);
             double inv_q = 1.0;
-            if constexpr (perspective) inv_q = 1.0 / q;  // the one divide per pixel
-            color_row[x] = shade<N>(d, u_prime * inv_q, v_prime * inv_q, normal * inv_q, color * inv_q, world * inv_q);
+            if constexpr (perspective) inv_q = 1.0 / q.value;  // the one divide per pixel
+            color_row[x] = shade<N>(d, u_prime.value * inv_q, v_prime.value * inv_q, normal.value() * inv_q,
+                                    color.value() * inv_q, world.value() * inv_q);
             ++shaded;
         }
-        depth += s.depth.dx;
-        if constexpr (perspective) q += s.h.q.dx;
-        if constexpr ((N & need_uv) != 0) u_prime += s.h.u_prime.dx, v_prime += s.h.v_prime.dx;
-        if constexpr ((N & need_normal) != 0) normal += dx_of(s.normal);
-        if constexpr ((N & need_color) != 0) color += dx_of(s.color);
-        if constexpr ((N & need_world_position) != 0) world += dx_of(s.world);
+        depth.advance();
+        if constexpr (perspective) q.advance();
+        if constexpr ((N & need_uv) != 0) u_prime.advance(), v_prime.advance();
+        if constexpr ((N & need_normal) != 0) normal.advance();
+        if constexpr ((N & need_color) != 0) color.advance();
+        if constexpr ((N & need_world_position) != 0) world.advance();
     }
     stats.pixels_shaded += shaded;
     if constexpr ((N & need_uv) != 0)

@@ -135,6 +135,11 @@ std::string folder_of(const std::string& path) {
     return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
+// A path from the scene file: absolute as written, otherwise relative to the scene's folder.
+std::string relative_to(const std::string& folder, const std::string& path) {
+    return !path.empty() && path[0] == '/' ? path : folder + path;
+}
+
 // --- The parser --------------------------------------------------------------------------------
 class Parser {
 public:
@@ -199,7 +204,7 @@ private:
         ColorSpace space = ColorSpace::srgb;
         while (!c.done()) {
             const std::string key = c.word("a texture option");
-            if (key == "file") t.path = folder_ + c.word("an image file name");
+            if (key == "file") t.path = relative_to(folder_, c.word("an image file name"));
             else if (key == "filter")
                 t.sampler.filter = choose<Filter>(c, "filter", {{"nearest", Filter::nearest}, {"bilinear", Filter::bilinear}});
             else if (key == "wrap") t.sampler.wrap_u = t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
@@ -308,7 +313,7 @@ private:
     }
 
     void mesh(Cursor& c) {
-        const std::string path = folder_ + c.word("an OBJ file name");
+        const std::string path = relative_to(folder_, c.word("an OBJ file name"));
         Object object;
         int material = -1;
         while (!c.done()) {

@@ -1,0 +1,73 @@
+// Small helpers shared by the tests: scenes built in code, and running the texr binary.
+#pragma once
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+#include "texr/scene/scene.h"
+
+namespace texr::testing {
+
+// A scene with one camera and no objects; add_triangle adds the geometry.
+inline Scene camera_scene(int width, int height, glm::dvec3 eye, glm::dvec3 target, double fov_y = 90.0,
+                          double near = 0.1, double far = 100.0) {
+    Scene s;
+    s.width = width;
+    s.height = height;
+    s.camera.eye = eye;
+    s.camera.target = target;
+    s.camera.fov_y_degrees = fov_y;
+    s.camera.near = near;
+    s.camera.far = far;
+    return s;
+}
+
+// Adds one triangle (own mesh and object) with the given material index.
+inline void add_triangle(Scene& s, const std::array<Vertex, 3>& v, int material) {
+    Mesh m;
+    m.vertices.assign(v.begin(), v.end());
+    m.triangles.push_back({0, 1, 2});
+    m.triangle_material.push_back(material);
+    m.has_uv = true;
+    Object o;
+    o.mesh = int(s.meshes.size());
+    s.meshes.push_back(m);
+    s.objects.push_back(o);
+}
+
+struct RunResult {
+    int exit_code;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs the texr binary with the given argument string (already shell-quoted).
+inline RunResult run_texr(const std::string& arguments) {
+    const std::string command = std::string(TEXR_BINARY) + " " + arguments + " 2>&1";
+    RunResult r{-1, {}};
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buffer{};
+    std::size_t n;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+inline void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+inline bool file_exists(const std::string& path) { return bool(std::ifstream(path)); }
+
+inline std::string source_path(const std::string& relative) { return std::string(TEXR_SOURCE_DIR) + "/" + relative; }
+
+// A fresh, empty folder under the build's temporary directory.
+inline std::string scratch_folder(const std::string& name) {
+    const std::string path = "texr-test-" + name;
+    std::system(("rm -rf '" + path + "' && mkdir -p '" + path + "'").c_str());
+    return path;
+}
+
+}  // namespace texr::testing

@@ -1,0 +1,176 @@
+// Bad input, tried as a user would: through the texr binary. Each case must give one clear
+// message (file:line where there is one), a non-zero exit, and no output file.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+
+#include "helpers.h"
+
+using namespace texr::testing;
+
+namespace {
+
+const std::string good_scene =
+    "size 32 24\n"
+    "camera eye 0 0 3 target 0 0 0\n"
+    "material red color 1 0 0\n"
+    "triangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
+
+struct Case {
+    std::string scene;
+    std::string expected_message;
+};
+
+// Writes `scene` into a fresh folder, renders it to out.png there, and checks the failure.
+void expect_failure(const std::string& name, const std::string& scene, const std::string& expected) {
+    const std::string dir = scratch_folder(name);
+    write_text(dir + "/scene.txt", scene);
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find(expected) != std::string::npos);
+    CHECK(r.output.find("texr: ") == 0);  // one message, starting with the program's name
+    CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+}
+
+}  // namespace
+
+TEST_CASE("a good scene renders and writes the file") {
+    const std::string dir = scratch_folder("good");
+    write_text(dir + "/scene.txt", good_scene);
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.ppm");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    REQUIRE(file_exists(dir + "/out.ppm"));
+    std::ifstream in(dir + "/out.ppm", std::ios::binary);
+    std::string magic;
+    int w = 0, h = 0, max = 0;
+    in >> magic >> w >> h >> max;
+    CHECK(magic == "P6");
+    CHECK(w == 32);
+    CHECK(h == 24);
+    CHECK(max == 255);
+}
+
+TEST_CASE("bad scene lines name file:line and what was expected") {
+    expect_failure("malformed", good_scene + "camera eye 0 1\n", "scene.txt:5: expected 3 numbers for eye");
+    expect_failure("not-a-number", "size 32 abc\n" + good_scene, "scene.txt:1: expected the height, found 'abc'");
+    expect_failure("unknown-command", "size 32 24\nsphere 1 2 3\n", "scene.txt:2: unknown command 'sphere'");
+    expect_failure("unknown-option", good_scene + "material m colour 1 0 0\n", "scene.txt:5: unknown material option 'colour'");
+    expect_failure("unknown-material", "triangle material nope v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:1: unknown material 'nope'");
+    expect_failure("unknown-filter", "texture t file x.png filter fancy\n", "scene.txt:1: unknown filter 'fancy'");
+    expect_failure("too-few-vertices", "triangle v 0 0 0 0 0 v 1 0 0 1 0\n", "scene.txt:1: triangle needs 3 vertices");
+    expect_failure("bad-camera", "camera near 5 far 1\n" + good_scene, "scene.txt:1: camera needs 0 < near < far");
+    expect_failure("no-objects", "size 32 24\n", "scene has no objects");
+    expect_failure("continuation", good_scene + "quad \\\n", "scene.txt:5: line ends with '\\'");
+}
+
+TEST_CASE("missing files are named with the scene line that refers to them") {
+    expect_failure("missing-texture", "texture t file nothere.png\n" + good_scene, "scene.txt:1: ");
+    expect_failure("missing-texture-name", "texture t file nothere.png\n" + good_scene, "nothere.png: cannot open image file");
+    expect_failure("missing-obj", good_scene + "mesh nothere.obj\n", "nothere.obj: cannot open OBJ file");
+    expect_failure("not-an-image", "texture t file scene.txt\n" + good_scene, "scene.txt: not a readable image");
+    const RunResult r = run_texr("render does-not-exist.scene -o nowhere.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("does-not-exist.scene: cannot open scene file") != std::string::npos);
+}
+
+TEST_CASE("an OBJ without UVs under a textured material is refused with a clear message") {
+    const std::string dir = scratch_folder("obj-no-uv");
+    write_text(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string png = source_path("models/textures/checker.png");  // an absolute path
+    write_text(dir + "/scene.txt", "texture t file \"" + png + "\"\nmaterial m texture t\nmesh tri.obj material m\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:3: ") != std::string::npos);
+    CHECK(r.output.find("has no texture coordinates") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+    // Without a texture the same OBJ renders.
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh tri.obj\n");
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}
+
+TEST_CASE("an OBJ face that refers to a missing vertex is refused") {
+    const std::string dir = scratch_folder("obj-bad-face");
+    write_text(dir + "/bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    write_text(dir + "/scene.txt", "mesh bad.obj\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:1: ") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+}
+
+TEST_CASE("an unwritable output path fails cleanly and leaves the previous file untouched") {
+    const std::string dir = scratch_folder("unwritable");
+    write_text(dir + "/scene.txt", good_scene);
+    write_text(dir + "/blocker", "a file, not a folder");
+    RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/blocker/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("blocker/out.png: cannot write output file") != std::string::npos);
+
+    // A failing render must not touch an existing output file.
+    write_text(dir + "/out.png", "previous frame");
+    write_text(dir + "/bad.txt", "size 32 24\nsphere\n");
+    r = run_texr("render " + dir + "/bad.txt -o " + dir + "/out.png");
+    CHECK(r.exit_code == 1);
+    std::ifstream in(dir + "/out.png");
+    std::string content;
+    std::getline(in, content);
+    CHECK(content == "previous frame");
+    // And no temporary file is left beside it.
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+    CHECK(std::system(("ls '" + dir + "' | grep -q texr-tmp").c_str()) != 0);
+}
+
+TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
+    const std::string dir = scratch_folder("usage");
+    write_text(dir + "/scene.txt", good_scene);
+    const std::string scene = dir + "/scene.txt -o " + dir + "/out.png";
+    RunResult r = run_texr("render " + scene + " --size 0x0");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--size 0x0 is out of range") != std::string::npos);
+    r = run_texr("render " + scene + " --size 100000x100000");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("out of range") != std::string::npos);
+    r = run_texr("render " + scene + " --size 640");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--size expects WxH") != std::string::npos);
+    r = run_texr("render " + scene + " --fast");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("unknown option '--fast'") != std::string::npos);
+    r = run_texr("render " + scene + " --repeat -3");
+    CHECK(r.exit_code == 2);
+    r = run_texr("frobnicate");
+    CHECK(r.exit_code == 2);
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.jpg");
+    CHECK(r.exit_code != 0);
+    CHECK(r.output.find("must end in .png or .ppm") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+    CHECK_FALSE(file_exists(dir + "/out.jpg"));
+}
+
+TEST_CASE("help documents every option") {
+    RunResult r = run_texr("--help");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("render") != std::string::npos);
+    r = run_texr("render --help");
+    CHECK(r.exit_code == 0);
+    for (const char* option : {"-o", "--size", "--repeat", "--stats"}) CHECK(r.output.find(option) != std::string::npos);
+}
+
+TEST_CASE("--stats and --repeat report counters and a median frame time") {
+    const std::string dir = scratch_folder("stats");
+    write_text(dir + "/scene.txt", good_scene);
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png --repeat 3 --stats");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("median frame time") != std::string::npos);
+    CHECK(r.output.find("triangles in       1") != std::string::npos);
+    CHECK(r.output.find("pixels shaded") != std::string::npos);
+    CHECK(r.output.find("material red") != std::string::npos);
+}

@@ -1,0 +1,157 @@
+// Homogeneous clipping: triangles that cross the camera plane render what a ray caster sees,
+// and nothing from behind the camera. Expected coverage and colours come from intersecting
+// each pixel's viewing ray with the triangle in double precision.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "helpers.h"
+#include "texr/render/renderer.h"
+
+using namespace texr;
+
+namespace {
+
+constexpr int size = 64;
+constexpr double near_distance = 0.1;
+
+struct Hit {
+    double depth;      // distance along -z
+    glm::dvec3 color;  // barycentric interpolation of the vertex colours
+};
+
+// Ray through screen point (x, y) of a 90-degree square camera at the origin looking down -z.
+std::optional<Hit> ray_cast(const std::array<Vertex, 3>& v, double x, double y) {
+    const glm::dvec3 dir(2.0 * x / size - 1.0, 1.0 - 2.0 * y / size, -1.0);
+    const glm::dvec3 p0(v[0].position), p1(v[1].position), p2(v[2].position);
+    // Moller-Trumbore.
+    const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, h = glm::cross(dir, e2);
+    const double det = glm::dot(e1, h);
+    if (std::fabs(det) < 1e-15) return std::nullopt;
+    const glm::dvec3 s = -p0;
+    const double b1 = glm::dot(s, h) / det;
+    const glm::dvec3 qv = glm::cross(s, e1);
+    const double b2 = glm::dot(dir, qv) / det;
+    const double t = glm::dot(e2, qv) / det;
+    if (b1 < 0 || b2 < 0 || b1 + b2 > 1 || t <= 0) return std::nullopt;
+    const double depth = t;  // dir.z = -1, so t is the distance along -z
+    if (depth < near_distance) return std::nullopt;
+    return Hit{depth, (1 - b1 - b2) * glm::dvec3(v[0].color) + b1 * glm::dvec3(v[1].color) + b2 * glm::dvec3(v[2].color)};
+}
+
+// True when the ray-cast coverage changes within 0.02 pixel of (x, y): an edge is there.
+bool near_an_edge(const std::array<Vertex, 3>& v, double x, double y) {
+    const bool centre = ray_cast(v, x, y).has_value();
+    for (double dx : {-0.02, 0.0, 0.02})
+        for (double dy : {-0.02, 0.0, 0.02})
+            if (ray_cast(v, x + dx, y + dy).has_value() != centre) return true;
+    return false;
+}
+
+struct Comparison {
+    int covered = 0, mismatched = 0;
+    double worst_color = 0.0;  // worst error / allowed error
+    bool all_finite = true;
+};
+
+Comparison render_and_compare(const std::array<Vertex, 3>& v) {
+    Scene scene = testing::camera_scene(size, size, {0, 0, 0}, {0, 0, -1}, 90.0, near_distance, 100.0);
+    Material m;
+    m.vertex_colors = true;
+    scene.materials.push_back(m);
+    scene.background = Color(0.0f);
+    testing::add_triangle(scene, v, 0);
+    RenderStats stats;
+    const Framebuffer fb = render(scene, {}, stats);
+    Comparison c;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const Color got = fb.color[fb.index(x, y)];
+            c.all_finite = c.all_finite && std::isfinite(got.x) && std::isfinite(got.y) && std::isfinite(got.z) &&
+                           std::isfinite(fb.depth[fb.index(x, y)]);
+            const bool drawn = fb.depth[fb.index(x, y)] < 1.0f;
+            const auto hit = ray_cast(v, x + 0.5, y + 0.5);
+            if (near_an_edge(v, x + 0.5, y + 0.5)) continue;
+            if (drawn != hit.has_value()) {
+                ++c.mismatched;
+                continue;
+            }
+            if (!drawn) continue;
+            ++c.covered;
+            // Vertices are snapped to 1/256 pixel, which shifts the image of the surface by
+            // at most that much: the colour may differ by its screen gradient times 1/256 px
+            // (doubled for slack), plus float rounding. The worst ratio must stay <= 1.
+            const auto h1 = ray_cast(v, x + 0.75, y + 0.5), h2 = ray_cast(v, x + 0.25, y + 0.5);
+            const auto h3 = ray_cast(v, x + 0.5, y + 0.75), h4 = ray_cast(v, x + 0.5, y + 0.25);
+            if (!h1 || !h2 || !h3 || !h4) continue;
+            const double gradient = glm::length(h1->color - h2->color) * 2 + glm::length(h3->color - h4->color) * 2;
+            const double allowed = gradient * (2.0 / 256.0) + 1e-5;
+            c.worst_color = std::max(c.worst_color, double(glm::length(glm::dvec3(got) - hit->color)) / allowed);
+        }
+    return c;
+}
+
+Vertex vertex(double x, double y, double z, Color color) {
+    Vertex v;
+    v.position = glm::vec3(float(x), float(y), float(z));
+    v.color = color;
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("clipping: a triangle with a vertex behind the camera renders what a ray caster sees") {
+    const std::array<Vertex, 3> v = {vertex(0, -1, 2, {1, 0, 0}), vertex(-3, -1, -5, {0, 1, 0}), vertex(3, -1, -5, {0, 0, 1})};
+    const Comparison c = render_and_compare(v);
+    CHECK(c.all_finite);
+    CHECK(c.covered > 500);
+    CHECK(c.mismatched == 0);
+    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
+    CHECK(c.worst_color <= 1.0);
+}
+
+TEST_CASE("clipping: a vertex exactly on the camera plane (w = 0)") {
+    const std::array<Vertex, 3> v = {vertex(0.5, -0.5, 0, {1, 1, 0}), vertex(-2, -1, -4, {0, 1, 1}), vertex(2, 1, -6, {1, 0, 1})};
+    const Comparison c = render_and_compare(v);
+    CHECK(c.all_finite);
+    CHECK(c.covered > 200);
+    CHECK(c.mismatched == 0);
+    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
+    CHECK(c.worst_color <= 1.0);
+}
+
+TEST_CASE("clipping: a vertex at w = 1e-7, just in front of the camera plane") {
+    const std::array<Vertex, 3> v = {vertex(0.3, -0.2, -1e-7, {1, 0, 0}), vertex(-2, -1.5, -3, {0, 1, 0}), vertex(2.5, -1, -3, {0, 0, 1})};
+    const Comparison c = render_and_compare(v);
+    CHECK(c.all_finite);
+    CHECK(c.covered > 200);
+    CHECK(c.mismatched == 0);
+    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
+    CHECK(c.worst_color <= 1.0);
+}
+
+TEST_CASE("clipping: nothing from behind the camera is drawn") {
+    // Entirely behind: it would project (with w < 0) onto the middle of the screen.
+    const std::array<Vertex, 3> v = {vertex(-1, -1, 3, {1, 1, 1}), vertex(1, -1, 3, {1, 1, 1}), vertex(0, 1, 3, {1, 1, 1})};
+    Scene scene = testing::camera_scene(size, size, {0, 0, 0}, {0, 0, -1}, 90.0, near_distance, 100.0);
+    scene.materials.push_back(Material{});
+    testing::add_triangle(scene, v, 0);
+    RenderStats stats;
+    const Framebuffer fb = render(scene, {}, stats);
+    for (float d : fb.depth) REQUIRE(d == 1.0f);
+    CHECK(stats.triangles_culled == 1);
+    CHECK(stats.pixels_shaded == 0);
+}
+
+TEST_CASE("clipping: perspective-correct colours on a plane seen at a grazing angle") {
+    const std::array<Vertex, 3> v = {vertex(-50, -0.3, -0.2, {1, 0, 0}), vertex(50, -0.3, -0.2, {0, 1, 0}), vertex(0, -0.3, -80, {0, 0, 1})};
+    const Comparison c = render_and_compare(v);
+    CHECK(c.all_finite);
+    CHECK(c.covered > 500);
+    CHECK(c.mismatched == 0);
+    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
+    CHECK(c.worst_color <= 1.0);
+}

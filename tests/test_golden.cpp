@@ -1,0 +1,59 @@
+// Golden images: small frames of the demo scenes compared with committed PNGs under
+// tests/golden/. Tolerance: every channel within 3 levels of 255 and a mean difference
+// under 0.1 level, which allows rounding differences between compilers but not a changed
+// picture. Each golden image was inspected by eye when it was committed; a changed golden
+// image needs its reason in the commit message.
+// To rewrite them after an intended change: TEXR_UPDATE_GOLDEN=1 ./build/texr_tests -tc='golden*'
+#include <doctest/doctest.h>
+
+#include <stb_image.h>
+
+#include <cstdlib>
+#include <cmath>
+
+#include "helpers.h"
+#include "texr/io/frame_writer.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
+
+using namespace texr;
+
+namespace {
+
+void check_golden(const std::string& scene_file, int width, int height, const std::string& golden_name) {
+    const Scene scene = load_scene(testing::source_path(scene_file));
+    RenderStats stats;
+    const Framebuffer fb = render(scene, {width, height}, stats);
+    const std::string golden = testing::source_path("tests/golden/" + golden_name);
+    if (std::getenv("TEXR_UPDATE_GOLDEN")) {
+        write_frame(fb, golden);
+        MESSAGE("rewrote " << golden);
+        return;
+    }
+    int w = 0, h = 0, channels = 0;
+    unsigned char* expected = stbi_load(golden.c_str(), &w, &h, &channels, 3);
+    REQUIRE_MESSAGE(expected != nullptr, "cannot read golden image " << golden);
+    REQUIRE(w == width);
+    REQUIRE(h == height);
+    const std::vector<std::uint8_t> got = encode_srgb8(fb);
+    int worst = 0;
+    double total = 0.0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const int d = std::abs(int(got[i]) - int(expected[i]));
+        worst = std::max(worst, d);
+        total += d;
+    }
+    stbi_image_free(expected);
+    const double mean = total / double(got.size());
+    MESSAGE(golden_name << ": worst channel difference " << worst << ", mean " << mean);
+    CHECK(worst <= 3);
+    CHECK(mean < 0.1);
+}
+
+}  // namespace
+
+TEST_CASE("golden: textured plane receding to the horizon") { check_golden("models/plane.scene", 160, 120, "plane.png"); }
+
+TEST_CASE("golden: demo scene (plane, lit torus, OBJ cube with two materials)") {
+    check_golden("models/demo.scene", 200, 150, "demo.png");
+}

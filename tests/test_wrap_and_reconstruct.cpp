@@ -1,0 +1,132 @@
+// Wrap modes and the nearest / bilinear reconstruction filters against hand-worked values.
+#include <doctest/doctest.h>
+
+#include "texr/texture/reconstruct.h"
+#include "texr/texture/wrap.h"
+
+using namespace texr;
+
+TEST_CASE("wrap functions on texture coordinates: hand-worked values for every mode") {
+    // u:                 -0.25   1.0    1.75   -3.5   1e7
+    // repeat u-floor(u):  0.75   0      0.75    0.5   0
+    // mirror (floor odd -> 1-t): floor -1 odd: 0.25; 1 odd: 1; 1 odd: 0.25; -4 even: 0.5; even: 0
+    // clamp:              0      1      1       0     1
+    // border outside?:    yes    no     yes     yes   yes
+    const double u[] = {-0.25, 1.0, 1.75, -3.5, 1e7};
+    const double repeat[] = {0.75, 0.0, 0.75, 0.5, 0.0};
+    const double mirror[] = {0.25, 1.0, 0.25, 0.5, 0.0};
+    const double clamp[] = {0.0, 1.0, 1.0, 0.0, 1.0};
+    const bool border[] = {true, false, true, true, true};
+    for (int i = 0; i < 5; ++i) {
+        CAPTURE(u[i]);
+        CHECK(wrap_repeat(u[i]) == doctest::Approx(repeat[i]));
+        CHECK(wrap_mirror(u[i]) == doctest::Approx(mirror[i]));
+        CHECK(wrap_clamp(u[i]) == clamp[i]);
+        CHECK(outside_border(u[i]) == border[i]);
+    }
+    CHECK(wrap_repeat(1e7 + 0.25) == doctest::Approx(0.25));  // the fraction survives at 1e7
+    CHECK(wrap_mirror(1e7 + 1.25) == doctest::Approx(0.75));  // floor 1e7+1 is odd
+}
+
+TEST_CASE("wrap functions on texel indices agree with OpenGL's rules") {
+    // n = 4 texels. repeat: i mod 4. mirror: period 8, 0 1 2 3 3 2 1 0.
+    CHECK(wrap_repeat_index(-1, 4) == 3);
+    CHECK(wrap_repeat_index(4, 4) == 0);
+    CHECK(wrap_repeat_index(-9, 4) == 3);
+    CHECK(wrap_mirror_index(-1, 4) == 0);
+    CHECK(wrap_mirror_index(-4, 4) == 3);
+    CHECK(wrap_mirror_index(-5, 4) == 3);
+    CHECK(wrap_mirror_index(4, 4) == 3);
+    CHECK(wrap_mirror_index(7, 4) == 0);
+    CHECK(wrap_mirror_index(8, 4) == 0);
+    CHECK(wrap_clamp_index(-3, 4) == 0);
+    CHECK(wrap_clamp_index(9, 4) == 3);
+    CHECK(wrap_border_index(-1, 4) == -1);
+    CHECK(wrap_border_index(4, 4) == -1);
+    CHECK(wrap_border_index(2, 4) == 2);
+}
+
+namespace {
+
+// A float image whose texel (i, j) has the grey value given row by row from the bottom.
+Image grey_image(int w, int h, std::initializer_list<float> values) {
+    std::vector<float> rgba;
+    for (float v : values) rgba.insert(rgba.end(), {v, v, v, 1.0f});
+    return Image::hdr(w, h, rgba);
+}
+
+float grey(const Color4& c) { return c.x; }
+
+Sampler sampler(Filter f, Wrap w, Registration r) {
+    Sampler s;
+    s.filter = f;
+    s.wrap_u = s.wrap_v = w;
+    s.registration = r;
+    s.border = {9.0f, 9.0f, 9.0f, 1.0f};
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("nearest and bilinear on a 2x2 texture, both registrations") {
+    // Texels (i, j) with j from the bottom: (0,0)=0 (1,0)=1 (0,1)=2 (1,1)=3.
+    const Image img = grey_image(2, 2, {0, 1, 2, 3});
+    SUBCASE("cell registration: centres at 1/4 and 3/4") {
+        const Sampler lin = sampler(Filter::bilinear, Wrap::clamp, Registration::cell);
+        CHECK(grey(sample(img, lin, 0.25, 0.25)) == doctest::Approx(0.0));
+        CHECK(grey(sample(img, lin, 0.75, 0.75)) == doctest::Approx(3.0));
+        CHECK(grey(sample(img, lin, 0.5, 0.5)) == doctest::Approx(1.5));     // the mean of all four
+        CHECK(grey(sample(img, lin, 0.375, 0.25)) == doctest::Approx(0.25));  // x = 0.25
+        CHECK(grey(sample(img, lin, 0.0, 0.0)) == doctest::Approx(0.0));      // clamp to edge
+        const Sampler near = sampler(Filter::nearest, Wrap::clamp, Registration::cell);
+        CHECK(grey(sample(img, near, 0.49, 0.51)) == doctest::Approx(2.0));  // lu = 0, lv = 1
+        CHECK(grey(sample(img, near, 1.0, 1.0)) == doctest::Approx(3.0));    // min(floor(2), 1) = 1
+        CHECK(grey(sample(img, near, 0.5, 0.0)) == doctest::Approx(1.0));
+    }
+    SUBCASE("node registration: texels at 0 and 1") {
+        const Sampler lin = sampler(Filter::bilinear, Wrap::clamp, Registration::node);
+        CHECK(grey(sample(img, lin, 0.0, 0.0)) == doctest::Approx(0.0));
+        CHECK(grey(sample(img, lin, 1.0, 1.0)) == doctest::Approx(3.0));
+        CHECK(grey(sample(img, lin, 0.5, 0.5)) == doctest::Approx(1.5));
+        CHECK(grey(sample(img, lin, 0.25, 0.0)) == doctest::Approx(0.25));
+        CHECK(grey(sample(img, lin, 0.25, 0.5)) == doctest::Approx(1.25));  // 0.25 + 0.5 * 2
+        const Sampler near = sampler(Filter::nearest, Wrap::clamp, Registration::node);
+        CHECK(grey(sample(img, near, 0.49, 0.51)) == doctest::Approx(2.0));
+        CHECK(grey(sample(img, near, 0.51, 0.49)) == doctest::Approx(1.0));
+    }
+    SUBCASE("where the registrations differ: at u = 0.25 cell reads texel 0, node halfway") {
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::clamp, Registration::cell), 0.25, 0.25)) == doctest::Approx(0.0));
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::clamp, Registration::node), 0.25, 0.25)) ==
+              doctest::Approx(0.75));  // 0.25*1 + 0.25*2
+    }
+}
+
+TEST_CASE("bilinear on a 3x3 texture with every wrap mode") {
+    // Row 0 (bottom): 0 1 2; row 1: 3 4 5; row 2: 6 7 8 -> value = i + 3 j.
+    const Image img = grey_image(3, 3, {0, 1, 2, 3, 4, 5, 6, 7, 8});
+    // Cell registration, v at the centre of row 1 (v = 0.5), u at x = -0.5 + 3u.
+    SUBCASE("repeat: u = 0 lies halfway between texel 2 (wrapped) and texel 0") {
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::repeat, Registration::cell), 0.0, 0.5)) ==
+              doctest::Approx(0.5 * 5 + 0.5 * 3));
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::repeat, Registration::cell), 1e7, 0.5)) ==
+              doctest::Approx(4.0));
+    }
+    SUBCASE("mirror: u = 0 reads texel 0 twice; u = -1/6 is texel 0's mirror image") {
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::mirror, Registration::cell), 0.0, 0.5)) == doctest::Approx(3.0));
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::mirror, Registration::cell), -1.0 / 6.0, 0.5)) ==
+              doctest::Approx(3.0));
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::mirror, Registration::cell), -0.5, 0.5)) ==
+              doctest::Approx(4.0));  // x = -2: mirrored texel 1
+    }
+    SUBCASE("clamp: far outside reads the edge texel") {
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::clamp, Registration::cell), -3.5, 0.5)) == doctest::Approx(3.0));
+        CHECK(grey(sample(img, sampler(Filter::bilinear, Wrap::clamp, Registration::cell), 1e7, 0.5)) == doctest::Approx(5.0));
+    }
+    SUBCASE("border: outside is the border colour; the edge blends half of it") {
+        const Sampler b = sampler(Filter::bilinear, Wrap::border, Registration::cell);
+        CHECK(grey(sample(img, b, -0.25, 0.5)) == doctest::Approx(9.0));
+        CHECK(grey(sample(img, b, 0.0, 0.5)) == doctest::Approx(0.5 * 9 + 0.5 * 3));
+        CHECK(grey(sample(img, sampler(Filter::nearest, Wrap::border, Registration::cell), 1.0, 0.5)) == doctest::Approx(5.0));
+        CHECK(grey(sample(img, sampler(Filter::nearest, Wrap::border, Registration::cell), 1.01, 0.5)) == doctest::Approx(9.0));
+    }
+}
