@@ -57,6 +57,10 @@ Image grey_image(int w, int h, std::initializer_list<float> values) {
 
 float grey(const Color4& c) { return c.x; }
 
+Color4 sample(const Image& image, const Sampler& s, double u, double v) {
+    return s.filter == Filter::nearest ? sample_nearest(image, s, u, v) : sample_bilinear(image, s, u, v);
+}
+
 Sampler sampler(Filter f, Wrap w, Registration r) {
     Sampler s;
     s.filter = f;

@@ -46,6 +46,18 @@ def uvgrid(i, j, size=256, cells=8):
     return (r, g, b)
 
 
+def detail(i, j, size=1024):
+    """Benchmark texture: 32-texel cells whose colours vary over the image, split into a
+    4x4 fine checker inside each cell, with 1-texel dark grid lines: detail at several
+    frequencies, so every filter's blur and aliasing show in the error."""
+    if i % 32 == 0 or j % 32 == 0:
+        return (25, 25, 30)
+    cu, cv = i // 32, j // 32
+    fine = ((i // 8) + (j // 8)) % 2
+    base = (60 + (cu * 37) % 180, 60 + (cv * 53) % 180, 60 + ((cu + cv) * 29) % 180)
+    return tuple(min(255, c + 50) if fine else c for c in base)
+
+
 def write_torus(path, major=1.0, minor=0.4, segments=48, rings=24):
     """The lecture's parametric surface: (phi, theta) = (2 pi u, 2 pi v) on a torus."""
     lines = ["# torus, R = %g, r = %g; u around the axis, v around the tube" % (major, minor)]
@@ -100,5 +112,6 @@ def write_cube(path):
 if __name__ == "__main__":
     write_png("models/textures/checker.png", 256, 256, checker)
     write_png("models/textures/uvgrid.png", 256, 256, uvgrid)
+    write_png("models/textures/detail.png", 1024, 1024, detail)
     write_torus("models/torus.obj")
     write_cube("models/cube.obj")

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "texr/bench/bench.h"
 #include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
 #include "texr/render/needs.h"
@@ -22,6 +23,7 @@ const char* main_help =
     "\n"
     "commands:\n"
     "  render SCENE    render a scene file to a PNG or PPM frame\n"
+    "  bench [NAME]    run benchmarks (run time against error) into out/bench/\n"
     "\n"
     "options:\n"
     "  -h, --help      show this help (texr render --help for the command's options)\n"
@@ -204,6 +206,19 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (command == "render") return run_render({args.begin() + 1, args.end()});
+        if (command == "bench") {
+            const std::vector<std::string> rest(args.begin() + 1, args.end());
+            for (const auto& a : rest)
+                if (a == "-h" || a == "--help") {
+                    std::fputs(texr::bench_help, stdout);
+                    return 0;
+                }
+            try {
+                return texr::run_bench(rest);
+            } catch (const std::invalid_argument& e) {
+                throw UsageError{e.what()};
+            }
+        }
         throw UsageError{"unknown command '" + command + "' (try texr --help)"};
     } catch (const UsageError& e) {
         std::fprintf(stderr, "texr: %s\n", e.message.c_str());

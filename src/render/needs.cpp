@@ -5,7 +5,10 @@ namespace texr {
 
 Needs needs_of(const Material& material, const Scene& scene) {
     Needs needs = 0;
-    if (material.texture >= 0) needs |= need_uv;  // nearest and bilinear use no footprint
+    if (material.texture >= 0) {
+        needs |= need_uv;
+        if (uses_footprint(scene.textures[std::size_t(material.texture)].sampler.filter)) needs |= need_uv_derivatives;
+    }
     if (material.vertex_colors) needs |= need_color;
     if (material.lighting == Lighting::lambert && !scene.lights.empty()) {
         needs |= need_normal;

@@ -14,6 +14,7 @@
 #include "texr/raster/homography.h"
 #include "texr/raster/span_walk.h"
 #include "texr/render/needs.h"
+#include "texr/texture/lookup.h"
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
@@ -47,6 +48,7 @@ struct DrawContext {
     const Scene& scene;
     const Material& material;
     const Texture* texture;  // null for an untextured material
+    int spp;                 // > 1: supersampled texture ground truth
 };
 
 // Everything the span walk needs of one screen triangle.
@@ -58,10 +60,10 @@ struct TriangleSetup {
 };
 
 template <Needs N>
-Color shade(const DrawContext& d, double u, double v, const glm::dvec3& normal, const glm::dvec3& color,
+Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal, const glm::dvec3& color,
             const glm::dvec3& world) {
     Color c = d.material.color;
-    if constexpr ((N & need_uv) != 0) c *= Color(sample(*d.texture->image, d.texture->sampler, u, v));
+    if constexpr ((N & need_uv) != 0) c *= Color(texel);
     if constexpr ((N & need_color) != 0) c *= Color(color);
     if (d.material.lighting == Lighting::lambert) {
         Color irradiance = d.scene.ambient;
@@ -76,8 +78,22 @@ Color shade(const DrawContext& d, double u, double v, const glm::dvec3& normal, 
         }
         c *= irradiance;
     }
-    (void)u, (void)v, (void)normal, (void)color, (void)world;
+    (void)texel, (void)normal, (void)color, (void)world;
     return c;
+}
+
+// The ground truth for texture filtering: spp x spp stratified sub-pixel positions, each
+// with its exact (u, v) from the homography, read bilinearly from the base level.
+Color4 supersampled_texel(const DrawContext& d, const TextureHomography& h, int x, int y, std::uint64_t& texels) {
+    const int n = d.spp;
+    Color4 sum(0.0f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec2 uv = h.uv_at(x + (i + 0.5) / n, y + (j + 0.5) / n);
+            sum += sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, uv.x, uv.y);
+        }
+    texels += 4 * std::uint64_t(n) * std::uint64_t(n);
+    return sum / float(n * n);
 }
 
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
@@ -112,14 +128,21 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
 
     float* depth_row = &fb.depth[fb.index(0, y)];
     Color* color_row = &fb.color[fb.index(0, y)];
-    std::uint64_t shaded = 0;
+    std::uint64_t shaded = 0, texels = 0;
     for (int x = span.x0; x < span.x1; ++x) {
         if (float(depth.value) < depth_row[x]) {
             depth_row[x] = float(depth.value);
             double inv_q = 1.0;
             if constexpr (perspective) inv_q = 1.0 / q.value;  // the one divide per pixel
-            color_row[x] = shade<N>(d, u_prime.value * inv_q, v_prime.value * inv_q, normal.value() * inv_q,
-                                    color.value() * inv_q, world.value() * inv_q);
+            Color4 texel(1.0f);
+            if constexpr ((N & need_uv) != 0) {
+                const double u = u_prime.value * inv_q, v = v_prime.value * inv_q;
+                UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
+                if constexpr ((N & need_uv_derivatives) != 0) derivatives = uv_derivatives(s.h, u, v, q.value);
+                texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
+                                  : lookup(*d.texture, u, v, derivatives, texels);
+            }
+            color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
             ++shaded;
         }
         depth.advance();
@@ -130,8 +153,7 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
         if constexpr ((N & need_world_position) != 0) world.advance();
     }
     stats.pixels_shaded += shaded;
-    if constexpr ((N & need_uv) != 0)
-        stats.texels_fetched += shaded * std::uint64_t(texels_per_lookup(d.texture->sampler.filter));
+    stats.texels_fetched += texels;
 }
 
 template <Needs N>
@@ -175,8 +197,9 @@ std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, co
 
 class FrameRenderer {
 public:
-    FrameRenderer(const Scene& scene, int width, int height, Framebuffer& fb, RenderStats& stats)
-        : scene_(scene), fb_(fb), stats_(stats), width_(width), height_(height), band_(guard_band_for(width, height)) {
+    FrameRenderer(const Scene& scene, int width, int height, int spp, Framebuffer& fb, RenderStats& stats)
+        : scene_(scene), fb_(fb), stats_(stats), width_(width), height_(height), spp_(spp),
+          band_(guard_band_for(width, height)) {
         view_projection_ = projection_matrix(scene.camera, double(width) / double(height)) * view_matrix(scene.camera);
         for (const Material& m : scene.materials) needs_.push_back(needs_of(m, scene));
     }
@@ -226,7 +249,8 @@ private:
         const DrawContext d{scene_, scene_.materials[std::size_t(material)],
                             scene_.materials[std::size_t(material)].texture >= 0
                                 ? &scene_.textures[std::size_t(scene_.materials[std::size_t(material)].texture)]
-                                : nullptr};
+                                : nullptr,
+                            spp_};
         const Needs needs = needs_[std::size_t(material)];
         // The clipped polygon is convex: a fan from its first vertex.
         for (int i = 1; i + 1 < polygon_.count; ++i)
@@ -288,7 +312,7 @@ private:
     const Scene& scene_;
     Framebuffer& fb_;
     RenderStats& stats_;
-    int width_, height_;
+    int width_, height_, spp_;
     GuardBand band_;
     glm::dmat4 view_projection_;
     std::vector<Needs> needs_;
@@ -302,7 +326,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
     Framebuffer fb(width, height, scene.background);
-    FrameRenderer frame(scene, width, height, fb, stats);
+    FrameRenderer frame(scene, width, height, std::max(1, options.spp), fb, stats);
     for (const Object& object : scene.objects) frame.draw(object);
     return fb;
 }

@@ -205,8 +205,20 @@ private:
         while (!c.done()) {
             const std::string key = c.word("a texture option");
             if (key == "file") t.path = relative_to(folder_, c.word("an image file name"));
-            else if (key == "filter")
-                t.sampler.filter = choose<Filter>(c, "filter", {{"nearest", Filter::nearest}, {"bilinear", Filter::bilinear}});
+            else if (key == "filter") {
+                std::map<std::string, Filter> filters;
+                for (int f = 0; f < filter_count; ++f) filters[filter_name(Filter(f))] = Filter(f);
+                t.sampler.filter = choose(c, "filter", filters);
+            } else if (key == "cubic") {
+                t.sampler.cubic_b = float(c.number("the cubic's B"));
+                t.sampler.cubic_c = float(c.number("the cubic's C"));
+            } else if (key == "clamp_overshoot")
+                t.sampler.clamp_overshoot = choose<bool>(c, "clamp_overshoot setting", {{"on", true}, {"off", false}});
+            else if (key == "max_anisotropy") {
+                t.sampler.max_anisotropy = float(c.number("the maximum anisotropy"));
+                if (!(t.sampler.max_anisotropy >= 1.0f && t.sampler.max_anisotropy <= 64.0f))
+                    c.fail("max_anisotropy must be between 1 and 64");
+            }
             else if (key == "wrap") t.sampler.wrap_u = t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
             else if (key == "wrap_u") t.sampler.wrap_u = choose(c, "wrap mode", wrap_names);
             else if (key == "wrap_v") t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
@@ -217,10 +229,11 @@ private:
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
             else if (key == "colorspace")
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
-            else c.fail("unknown texture option '" + key + "' (expected file, filter, wrap, wrap_u, wrap_v, border, registration or colorspace)");
+            else c.fail("unknown texture option '" + key + "' (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
         }
         if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
         t.image = image(c, t.path, space);
+        t.mipmap = mipmap(t.image);
         texture_index_[t.name] = int(scene_.textures.size());
         scene_.textures.push_back(std::move(t));
     }
@@ -236,6 +249,13 @@ private:
         } catch (const InputError& e) {
             c.fail(e.what());
         }
+    }
+
+    // One mipmap per image, shared by every texture that reads it.
+    std::shared_ptr<MipMap> mipmap(const std::shared_ptr<const Image>& image) {
+        auto& m = mipmaps_[image.get()];
+        if (!m) m = std::make_shared<MipMap>(image);
+        return m;
     }
 
     void material(Cursor& c) {
@@ -335,6 +355,7 @@ private:
                 t.name = info.name + ".map_Kd";
                 t.path = info.diffuse_texture;
                 t.image = image(c, t.path, ColorSpace::srgb);
+                t.mipmap = mipmap(t.image);
                 m.texture = int(scene_.textures.size());
                 scene_.textures.push_back(std::move(t));
             }
@@ -418,6 +439,7 @@ private:
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
     std::map<std::string, std::shared_ptr<const Image>> images_;
+    std::map<const Image*, std::shared_ptr<MipMap>> mipmaps_;
     int default_material_ = -1;
 };
 

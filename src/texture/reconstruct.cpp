@@ -1,28 +1,43 @@
-// Nearest and bilinear reconstruction (see include/texr/texture/reconstruct.h).
+// Nearest, bilinear and bicubic reconstruction (see include/texr/texture/reconstruct.h).
 #include "texr/texture/reconstruct.h"
 
 #include <cmath>
 
+#include <glm/common.hpp>
+
 namespace texr {
 
+namespace {
+
+// floor() for |x| < 2^62 without a library call (x86-64's baseline has no rounding opcode).
+inline double fast_floor(double x) {
+    const double t = double(static_cast<std::int64_t>(x));
+    return t > x ? t - 1.0 : t;
+}
+
+// Texture coordinate -> lattice coordinate (texels), reduced by whole periods so it fits an int.
+inline double lattice(Registration registration, Wrap wrap, double t, int n) {
+    const double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
+    if (x >= 0.0 && x < double(n - 1)) return x;  // the common case: nothing to reduce
+    return reduce_lattice(wrap, x, n);
+}
+
+inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
+    return (i < 0 || j < 0) ? sampler.border : image.texel(i, j);
+}
+
+}  // namespace
+
 Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
-    const int wi = wrap_index(sampler.wrap_u, i, image.width());
-    const int wj = wrap_index(sampler.wrap_v, j, image.height());
-    if (wi < 0 || wj < 0) return sampler.border;
-    return image.texel(wi, wj);
+    return texel_or_border(image, sampler, wrap_index(sampler.wrap_u, i, image.width()),
+                           wrap_index(sampler.wrap_v, j, image.height()));
 }
 
 namespace {
 
-// Texture coordinate -> lattice coordinate (in texels), reduced so it fits an int.
-double lattice_for_bilinear(Registration registration, Wrap wrap, double t, int n) {
-    const double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
-    return reduce_lattice(wrap, x, n);
-}
-
 int lattice_for_nearest(Registration registration, Wrap wrap, double t, int n) {
     const double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
-    const int l = int(std::floor(reduce_lattice(wrap, x, n)));
+    const int l = int(fast_floor(reduce_lattice(wrap, x, n)));
     // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
     if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
     return l;
@@ -37,23 +52,57 @@ Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, doub
 }
 
 Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
-    const double x = lattice_for_bilinear(sampler.registration, sampler.wrap_u, u, image.width());
-    const double y = lattice_for_bilinear(sampler.registration, sampler.wrap_v, v, image.height());
-    const double x0 = std::floor(x), y0 = std::floor(y);
+    const int w = image.width(), h = image.height();
+    const double x = lattice(sampler.registration, sampler.wrap_u, u, w);
+    const double y = lattice(sampler.registration, sampler.wrap_v, v, h);
+    const double x0 = fast_floor(x), y0 = fast_floor(y);
     const float fu = float(x - x0), fv = float(y - y0);
-    const int i = int(x0), j = int(y0);
-    // Successive linear interpolations: along v in columns i and i + 1, then along u.
-    const Color4 column0 = (1.0f - fv) * fetch(image, sampler, i, j) + fv * fetch(image, sampler, i, j + 1);
-    const Color4 column1 = (1.0f - fv) * fetch(image, sampler, i + 1, j) + fv * fetch(image, sampler, i + 1, j + 1);
+    // Wrap the two columns and two rows once each.
+    const int i0 = wrap_index(sampler.wrap_u, int(x0), w), i1 = wrap_index(sampler.wrap_u, int(x0) + 1, w);
+    const int j0 = wrap_index(sampler.wrap_v, int(y0), h), j1 = wrap_index(sampler.wrap_v, int(y0) + 1, h);
+    // Successive linear interpolations: along v in columns i0 and i1, then along u.
+    const Color4 column0 = (1.0f - fv) * texel_or_border(image, sampler, i0, j0) + fv * texel_or_border(image, sampler, i0, j1);
+    const Color4 column1 = (1.0f - fv) * texel_or_border(image, sampler, i1, j0) + fv * texel_or_border(image, sampler, i1, j1);
     return (1.0f - fu) * column0 + fu * column1;
 }
 
-Color4 sample(const Image& image, const Sampler& sampler, double u, double v) {
-    switch (sampler.filter) {
-        case Filter::nearest: return sample_nearest(image, sampler, u, v);
-        case Filter::bilinear: return sample_bilinear(image, sampler, u, v);
+float mitchell_netravali(float x, float b, float c) {
+    x = std::fabs(x);
+    if (x < 1.0f)
+        return ((12.0f - 9.0f * b - 6.0f * c) * x * x * x + (-18.0f + 12.0f * b + 6.0f * c) * x * x + (6.0f - 2.0f * b)) / 6.0f;
+    if (x < 2.0f)
+        return ((-b - 6.0f * c) * x * x * x + (6.0f * b + 30.0f * c) * x * x + (-12.0f * b - 48.0f * c) * x +
+                (8.0f * b + 24.0f * c)) / 6.0f;
+    return 0.0f;
+}
+
+Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, double v) {
+    const int w = image.width(), h = image.height();
+    const double x = lattice(sampler.registration, sampler.wrap_u, u, w);
+    const double y = lattice(sampler.registration, sampler.wrap_v, v, h);
+    const double x0 = fast_floor(x), y0 = fast_floor(y);
+    const float fu = float(x - x0), fv = float(y - y0);
+    // Taps at offsets -1, 0, 1, 2 from floor(x): distances 1 + f, f, 1 - f, 2 - f.
+    float wu[4], wv[4];
+    int iu[4], iv[4];
+    for (int k = 0; k < 4; ++k) {
+        wu[k] = mitchell_netravali(float(k - 1) - fu, sampler.cubic_b, sampler.cubic_c);
+        wv[k] = mitchell_netravali(float(k - 1) - fv, sampler.cubic_b, sampler.cubic_c);
+        iu[k] = wrap_index(sampler.wrap_u, int(x0) + k - 1, w);
+        iv[k] = wrap_index(sampler.wrap_v, int(y0) + k - 1, h);
     }
-    return {};
+    Color4 sum(0.0f);
+    for (int b = 0; b < 4; ++b) {
+        Color4 row(0.0f);
+        for (int a = 0; a < 4; ++a) row += wu[a] * texel_or_border(image, sampler, iu[a], iv[b]);
+        sum += wv[b] * row;
+    }
+    if (sampler.clamp_overshoot) {
+        const Color4 t00 = texel_or_border(image, sampler, iu[1], iv[1]), t10 = texel_or_border(image, sampler, iu[2], iv[1]);
+        const Color4 t01 = texel_or_border(image, sampler, iu[1], iv[2]), t11 = texel_or_border(image, sampler, iu[2], iv[2]);
+        sum = glm::clamp(sum, glm::min(glm::min(t00, t10), glm::min(t01, t11)), glm::max(glm::max(t00, t10), glm::max(t01, t11)));
+    }
+    return sum;
 }
 
 }  // namespace texr

@@ -11,6 +11,9 @@ namespace texr {
 
 struct RenderOptions {
     int width = 0, height = 0;  // 0: the scene's size
+    // Texture ground truth: spp x spp stratified samples per pixel, each a bilinear lookup
+    // in the base level at its own exact (u, v), box-filtered. 1 = the textures' own filters.
+    int spp = 1;
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);

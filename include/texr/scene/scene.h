@@ -13,6 +13,7 @@
 
 #include "texr/core/color.h"
 #include "texr/texture/image.h"
+#include "texr/texture/mipmap.h"
 #include "texr/texture/sampler.h"
 
 namespace texr {
@@ -29,6 +30,7 @@ struct Texture {
     std::string name;
     std::string path;
     std::shared_ptr<const Image> image;
+    std::shared_ptr<MipMap> mipmap;  // levels built on first minified lookup
     Sampler sampler;
 };
 

@@ -1,0 +1,21 @@
+// Elliptical weighted average (Heckbert 1989, "Fundamentals of Texture Mapping and Image
+// Warping", section 3.5.8). The pixel's footprint is the ellipse spanned by the derivative
+// vectors d1 = (du/dx, dv/dx) and d2 = (du/dy, dv/dy) (in texels of the level read):
+//   Q(s, t) = A s^2 + B s t + C t^2 <= F,   with
+//   A = d1v^2 + d2v^2 + 1,  B = -2 (d1u d1v + d2u d2v),  C = d1u^2 + d2u^2 + 1,  F = A C - B^2 / 4
+// (the +1 adds a one-texel reconstruction disc, so magnified footprints stay well formed).
+// Texels inside the ellipse get Gaussian weights exp(-alpha r^2) - exp(-alpha), r^2 = Q / F,
+// alpha = 2. The minor axis is stretched so major/minor <= max_anisotropy (bounding the
+// texels read), the level is chosen so the minor axis spans about one texel, and the results
+// of the two nearest levels are blended.
+#pragma once
+#include "texr/raster/homography.h"
+#include "texr/texture/mipmap.h"
+#include "texr/texture/sampler.h"
+
+namespace texr {
+
+// `texels` receives the number of texels read.
+Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels);
+
+}  // namespace texr

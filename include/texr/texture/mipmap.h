@@ -1,0 +1,53 @@
+// Mipmaps (lecture, "Texture Mapping": integrate over the pixel's pre-image): a pyramid of
+// prefiltered copies of an image, level l about 2^l times smaller per side.
+// Any size, not only powers of two: level l + 1 has max(1, floor(n / 2)) texels along an
+// axis of n, and each of its texels is the exact area-weighted box average of the source
+// texels its footprint [i n / m, (i + 1) n / m) overlaps. For even n that is the usual 2x2
+// average; for odd n the footprint spans 2 + 1/m texels with fractional weights at its
+// ends, so no texel is dropped and every level keeps the base image's mean. The box is the
+// filter that preserves the mean exactly and never overshoots; its mild aliasing is what
+// trilinear and anisotropic filtering sample between anyway.
+// Averaging happens in linear space; LDR levels are stored again as 8-bit (sRGB-encoded
+// for colour images), HDR levels as float.
+// Levels are built on first use, only for textures that are minified; building is
+// thread-safe.
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "texr/texture/image.h"
+
+namespace texr {
+
+// One box-filtered level below `source`.
+Image downsample(const Image& source);
+
+class MipMap {
+public:
+    explicit MipMap(std::shared_ptr<const Image> base) : base_(std::move(base)) {}
+
+    const Image& base() const { return *base_; }
+    // Level l (0 is the base); builds the pyramid on first call with l > 0.
+    const Image& level(int l) const {
+        if (l == 0) return *base_;
+        build();
+        return levels_[std::size_t(l - 1)];
+    }
+    // Number of levels including the base (down to 1x1). Does not build them.
+    int level_count() const;
+    bool built() const { return built_flag_.load(); }
+    double build_seconds() const { return build_seconds_; }
+    std::size_t bytes() const;  // all levels above the base
+    void build() const;
+
+private:
+    std::shared_ptr<const Image> base_;
+    mutable std::once_flag once_;
+    mutable std::vector<Image> levels_;
+    mutable std::atomic<bool> built_flag_{false};
+    mutable double build_seconds_ = 0.0;
+};
+
+}  // namespace texr

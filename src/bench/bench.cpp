@@ -1,0 +1,235 @@
+// texr bench filters: every texture filter on two scenes, timed and scored against a
+// supersampled ground truth (README, "Benchmarks").
+#include "texr/bench/bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <sys/stat.h>
+
+#include "texr/bench/metrics.h"
+#include "texr/bench/plot.h"
+#include "texr/core/error.h"
+#include "texr/io/frame_writer.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
+
+#ifndef TEXR_MODELS_DIR
+#define TEXR_MODELS_DIR "models"
+#endif
+
+namespace texr {
+
+const char* bench_help =
+    "usage: texr bench [NAME] [options]\n"
+    "\n"
+    "Benchmarks; without NAME runs all of them. Results go to out/bench/ (CSV, a Markdown\n"
+    "table and an SVG plot per benchmark, and index.md).\n"
+    "\n"
+    "benchmarks:\n"
+    "  filters     every texture filter on a receding plane and a grazing-angle square:\n"
+    "              median frame time, covered Mpixel/s, PSNR and SSIM against a\n"
+    "              supersampled ground truth\n"
+    "\n"
+    "options:\n"
+    "  --size WxH      frame size (default 1024x768)\n"
+    "  --repeat N      timed frames per measurement; the median is reported (default 7)\n"
+    "  --spp N         ground truth: N x N samples per pixel (default 16)\n"
+    "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
+    "                  (default: this build's source models/)\n"
+    "  --out DIR       output folder (default out/bench)\n"
+    "  --quick         1 timed frame, 4x4 ground truth, 256x192: a smoke test\n";
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+struct BenchOptions {
+    int width = 1024, height = 768, repeat = 7, spp = 16;
+    std::string models = TEXR_MODELS_DIR, out = "out/bench";
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+FrameBytes bytes_of(const Framebuffer& fb) { return {fb.width, fb.height, encode_srgb8(fb)}; }
+
+std::vector<bool> covered(const Framebuffer& fb) {
+    std::vector<bool> mask(fb.depth.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = fb.depth[i] < 1.0f;
+    return mask;
+}
+
+void make_folders(const std::string& path) {
+    std::string partial;
+    for (std::size_t i = 0; i <= path.size(); ++i) {
+        if (i == path.size() || path[i] == '/') {
+            if (!partial.empty()) ::mkdir(partial.c_str(), 0755);
+        }
+        if (i < path.size()) partial += path[i];
+    }
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
+}
+
+std::string fixed(double v, int digits) {
+    char buffer[64];
+    if (std::isinf(v)) return "inf";
+    std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+    return buffer;
+}
+
+struct FilterRow {
+    std::string scene, filter;
+    int width, height, threads;
+    double load_ms, mip_ms, frame_ms, covered_pixels, mpix_per_s, psnr_db, ssim, texels_per_pixel;
+};
+
+std::vector<FilterRow> bench_filters(const BenchOptions& o) {
+    std::vector<FilterRow> rows;
+    for (const std::string name : {"plane", "grazing"}) {
+        const std::string path = o.models + "/bench/" + name + ".scene";
+        const auto load_start = Clock::now();
+        const Scene base = load_scene(path);
+        const double load_ms = ms_since(load_start);
+        double mip_ms = 0.0;
+        for (const Texture& t : base.textures) {
+            t.mipmap->build();  // built once, outside the timed frames, and reported
+            mip_ms += 1000.0 * t.mipmap->build_seconds();
+        }
+        RenderOptions options;
+        options.width = o.width, options.height = o.height;
+
+        std::fprintf(stderr, "bench filters: %s ground truth (%dx%d samples per pixel)...\n", name.c_str(), o.spp, o.spp);
+        RenderOptions truth_options = options;
+        truth_options.spp = o.spp;
+        RenderStats truth_stats;
+        const Framebuffer truth = render(base, truth_options, truth_stats);
+        const FrameBytes truth_bytes = bytes_of(truth);
+        const std::vector<bool> mask = covered(truth);
+        write_frame(truth, o.out + "/filters-" + name + "-truth.png");
+
+        for (int f = 0; f < filter_count; ++f) {
+            Scene scene = base;
+            for (Texture& t : scene.textures) t.sampler.filter = Filter(f);
+            RenderStats warm;
+            render(scene, options, warm);  // warm caches; not timed
+            std::vector<double> times;
+            RenderStats stats;
+            Framebuffer frame(1, 1, {});
+            for (int r = 0; r < o.repeat; ++r) {
+                stats = RenderStats{};
+                const auto start = Clock::now();
+                frame = render(scene, options, stats);
+                times.push_back(ms_since(start));
+            }
+            FilterRow row;
+            row.scene = name, row.filter = filter_name(Filter(f));
+            row.width = o.width, row.height = o.height, row.threads = 1;
+            row.load_ms = load_ms, row.mip_ms = mip_ms;
+            row.frame_ms = median(times);
+            row.covered_pixels = double(stats.pixels_shaded);
+            row.mpix_per_s = row.covered_pixels / (row.frame_ms * 1e3);
+            const FrameBytes got = bytes_of(frame);
+            row.psnr_db = psnr(got, truth_bytes, mask);
+            row.ssim = ssim(got, truth_bytes, mask);
+            row.texels_per_pixel = double(stats.texels_fetched) / std::max(1.0, row.covered_pixels);
+            write_frame(frame, o.out + "/filters-" + name + "-" + row.filter + ".png");
+            std::fprintf(stderr, "  %-22s %9.2f ms %8.1f Mpx/s %7.2f dB  SSIM %.4f\n", row.filter.c_str(), row.frame_ms,
+                         row.mpix_per_s, row.psnr_db, row.ssim);
+            rows.push_back(row);
+        }
+    }
+    return rows;
+}
+
+void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& rows) {
+    std::string csv =
+        "scene,width,height,threads,filter,load_ms,mip_build_ms,frame_ms_median,covered_pixels,covered_mpix_per_s,"
+        "psnr_db,ssim,texels_per_pixel\n";
+    std::string md =
+        "| scene | size | threads | filter | frame ms (median) | covered Mpx/s | PSNR dB | SSIM | texels/px |\n"
+        "|---|---|---|---|---:|---:|---:|---:|---:|\n";
+    std::vector<PlotPoint> points;
+    for (const FilterRow& r : rows) {
+        const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
+        csv += r.scene + "," + std::to_string(r.width) + "," + std::to_string(r.height) + "," + std::to_string(r.threads) +
+               "," + r.filter + "," + fixed(r.load_ms, 3) + "," + fixed(r.mip_ms, 3) + "," + fixed(r.frame_ms, 3) + "," +
+               fixed(r.covered_pixels, 0) + "," + fixed(r.mpix_per_s, 2) + "," + fixed(r.psnr_db, 3) + "," +
+               fixed(r.ssim, 5) + "," + fixed(r.texels_per_pixel, 2) + "\n";
+        md += "| " + r.scene + " | " + size + " | " + std::to_string(r.threads) + " | " + r.filter + " | " +
+              fixed(r.frame_ms, 2) + " | " + fixed(r.mpix_per_s, 1) + " | " + fixed(r.psnr_db, 2) + " | " +
+              fixed(r.ssim, 4) + " | " + fixed(r.texels_per_pixel, 1) + " |\n";
+        points.push_back({r.scene, r.filter, r.frame_ms, r.psnr_db});
+    }
+    if (!rows.empty())
+        md += "\nScene load " + fixed(rows.front().load_ms, 1) + " ms and mip building " + fixed(rows.front().mip_ms, 1) +
+              " ms (first scene) are not part of the frame times. PSNR and SSIM are measured on the covered pixels "
+              "against " + std::to_string(o.spp) + "x" + std::to_string(o.spp) + " supersampling.\n";
+    write_text_file(o.out + "/filters.csv", csv);
+    write_text_file(o.out + "/filters.md", md);
+    write_text_file(o.out + "/filters.svg",
+                    scatter_svg({"texr bench filters: run time against error", "median frame time, ms", "PSNR, dB", true}, points));
+}
+
+int parse_int(const std::string& text, const std::string& option) {
+    std::size_t used = 0;
+    int v = 0;
+    try {
+        v = std::stoi(text, &used);
+    } catch (...) {
+        used = 0;
+    }
+    if (used != text.size() || v < 1) throw std::invalid_argument(option + " expects a positive whole number, got '" + text + "'");
+    return v;
+}
+
+}  // namespace
+
+int run_bench(const std::vector<std::string>& args) {
+    BenchOptions o;
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+            return args[++i];
+        };
+        if (a == "--size") {
+            const std::string v = value();
+            const auto x = v.find('x');
+            if (x == std::string::npos) throw std::invalid_argument("--size expects WxH, got '" + v + "'");
+            o.width = parse_int(v.substr(0, x), "--size"), o.height = parse_int(v.substr(x + 1), "--size");
+            if (o.width > max_image_side || o.height > max_image_side) throw std::invalid_argument("--size is out of range");
+        } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
+        else if (a == "--spp") o.spp = parse_int(value(), "--spp");
+        else if (a == "--models") o.models = value();
+        else if (a == "--out") o.out = value();
+        else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192;
+        else if (a == "filters") names.push_back(a);
+        else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
+    }
+    if (names.empty()) names = {"filters"};
+    make_folders(o.out);
+    std::string index = "# texr benchmarks\n\n";
+    for (const std::string& name : names) {
+        if (name == "filters") {
+            write_filters_report(o, bench_filters(o));
+            index += "- [filters](filters.md): every texture filter, time against error ([csv](filters.csv), [plot](filters.svg))\n";
+        }
+    }
+    write_text_file(o.out + "/index.md", index);
+    std::printf("wrote %s/index.md\n", o.out.c_str());
+    return 0;
+}
+
+}  // namespace texr

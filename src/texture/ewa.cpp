@@ -1,0 +1,111 @@
+// EWA filtering (see include/texr/texture/ewa.h).
+#include "texr/texture/ewa.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "texr/texture/reconstruct.h"
+
+namespace texr {
+
+namespace {
+
+constexpr float gaussian_alpha = 2.0f;
+constexpr int weight_table_size = 128;
+
+// exp(-alpha r^2) - exp(-alpha) for r^2 in [0, 1), tabulated.
+const std::array<float, weight_table_size>& gaussian_weights() {
+    static const std::array<float, weight_table_size> table = [] {
+        std::array<float, weight_table_size> t{};
+        for (int i = 0; i < weight_table_size; ++i) {
+            const float r2 = float(i) / float(weight_table_size - 1);
+            t[std::size_t(i)] = std::exp(-gaussian_alpha * r2) - std::exp(-gaussian_alpha);
+        }
+        return t;
+    }();
+    return table;
+}
+
+// The weighted average over the ellipse at one level. (u, v) in [0, 1] texture space;
+// d1, d2 the derivative vectors in the same units.
+Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
+                    double d2v, int& texels) {
+    const double w = image.width(), h = image.height();
+    // Into this level's texel lattice (cell registration: texel centres at integers).
+    const double cs = s.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
+    const double ct = s.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
+    d1u *= w, d2u *= w, d1v *= h, d2v *= h;
+
+    // Ellipse coefficients, normalised so the boundary is Q = 1.
+    double a = d1v * d1v + d2v * d2v + 1.0;
+    double b = -2.0 * (d1u * d1v + d2u * d2v);
+    double c = d1u * d1u + d2u * d2u + 1.0;
+    const double f = a * c - b * b * 0.25;
+    a /= f, b /= f, c /= f;
+
+    // Bounding box of the ellipse: |s| <= sqrt(c / det'), |t| <= sqrt(a / det'), det' = a c - b^2/4.
+    const double det = a * c - b * b * 0.25;
+    const double half_s = std::sqrt(c / det), half_t = std::sqrt(a / det);
+    const int s0 = int(std::ceil(cs - half_s)), s1 = int(std::floor(cs + half_s));
+    const int t0 = int(std::ceil(ct - half_t)), t1 = int(std::floor(ct + half_t));
+
+    const auto& weights = gaussian_weights();
+    Color4 sum(0.0f);
+    float weight_sum = 0.0f;
+    for (int it = t0; it <= t1; ++it) {
+        const double tt = it - ct;
+        for (int is = s0; is <= s1; ++is) {
+            const double ss = is - cs;
+            const double r2 = a * ss * ss + b * ss * tt + c * tt * tt;
+            if (r2 >= 1.0) continue;
+            const float weight = weights[std::size_t(r2 * (weight_table_size - 1))];
+            sum += weight * fetch(image, s, is, it);
+            weight_sum += weight;
+            ++texels;
+        }
+    }
+    if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
+    return sum / weight_sum;
+}
+
+}  // namespace
+
+Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels) {
+    texels = 0;
+    // Work in base-level texels so the axes are comparable when W != H.
+    const double w = mip.base().width(), h = mip.base().height();
+    double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
+    double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
+    if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+    if (!(major > 0.0)) {
+        texels = 4;
+        return sample_bilinear(mip.base(), s, u, v);
+    }
+    // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
+    // reading an unbounded number of texels).
+    if (minor * s.max_anisotropy < major) {
+        const double target = major / s.max_anisotropy;
+        if (minor > 0.0) {
+            d2u *= target / minor, d2v *= target / minor;
+        } else {  // a degenerate footprint: any direction perpendicular to the major axis
+            d2u = -d1v / major * target, d2v = d1u / major * target;
+        }
+        minor = target;
+    }
+    // Level where the minor axis spans about one texel, blended with the next one.
+    const int last = mip.level_count() - 1;
+    const double lambda = std::clamp(std::log2(std::max(minor, 1e-300)), 0.0, double(last));
+    const int l0 = int(lambda);
+    const float t = float(lambda - l0);
+    const double inv_w = 1.0 / w, inv_h = 1.0 / h;
+    const auto at = [&](int level) {
+        return ewa_at_level(mip.level(level), s, u, v, d1u * inv_w, d1v * inv_h, d2u * inv_w, d2v * inv_h, texels);
+    };
+    const Color4 a = at(l0);
+    if (t == 0.0f || l0 == last) return a;
+    const Color4 b = at(l0 + 1);
+    return a + t * (b - a);
+}
+
+}  // namespace texr
