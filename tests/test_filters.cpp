@@ -1,0 +1,223 @@
+// Bicubic, mipmaps, level of detail and the footprint filters, each checked against a
+// property worked out by hand: interpolation, no overshoot, preserved means, constants.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "texr/texture/ewa.h"
+#include "texr/texture/minify.h"
+#include "texr/texture/mipmap.h"
+#include "texr/texture/reconstruct.h"
+
+using namespace texr;
+
+namespace {
+
+Image random_hdr(int w, int h, std::uint64_t seed, float lo = 0.0f, float hi = 1.0f) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> value(lo, hi);
+    std::vector<float> rgba;
+    for (int i = 0; i < w * h; ++i) {
+        const float v = value(rng);
+        rgba.insert(rgba.end(), {v, 1.0f - v, 0.5f * v, 1.0f});
+    }
+    return Image::hdr(w, h, rgba);
+}
+
+Image constant_ldr(int w, int h, std::uint8_t value) {
+    std::vector<std::uint8_t> rgba(std::size_t(w) * std::size_t(h) * 4, value);
+    return Image::ldr(w, h, ColorSpace::srgb, rgba);
+}
+
+Color4 mean_of(const Image& image) {
+    Color4 sum(0.0f);
+    for (int j = 0; j < image.height(); ++j)
+        for (int i = 0; i < image.width(); ++i) sum += image.texel(i, j);
+    return sum / float(image.width() * image.height());
+}
+
+Sampler cubic(float b, float c, bool clamp = false) {
+    Sampler s;
+    s.filter = Filter::bicubic;
+    s.cubic_b = b, s.cubic_c = c, s.clamp_overshoot = clamp;
+    return s;
+}
+
+UVDerivatives rotated(double texels_per_pixel, double degrees, int size) {
+    const double a = degrees * M_PI / 180.0, k = texels_per_pixel / size;
+    return {k * std::cos(a), k * std::sin(a), -k * std::sin(a), k * std::cos(a)};
+}
+
+}  // namespace
+
+TEST_CASE("the Mitchell-Netravali weights sum to one for every fraction and (B, C)") {
+    for (float b : {0.0f, 1.0f / 3.0f, 1.0f})
+        for (float c : {0.0f, 1.0f / 3.0f, 0.5f})
+            for (float f = 0.0f; f < 1.0f; f += 0.0625f) {
+                const float sum = mitchell_netravali(1 + f, b, c) + mitchell_netravali(f, b, c) +
+                                  mitchell_netravali(1 - f, b, c) + mitchell_netravali(2 - f, b, c);
+                CHECK(sum == doctest::Approx(1.0f).epsilon(1e-5));
+            }
+}
+
+TEST_CASE("Catmull-Rom passes through the samples") {
+    const Image img = random_hdr(7, 5, 11);
+    const Sampler s = cubic(0.0f, 0.5f);
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 7; ++i) {
+            const Color4 got = sample_bicubic(img, s, (i + 0.5) / 7.0, (j + 0.5) / 5.0);  // texel centres
+            const Color4 want = img.texel(i, j);
+            for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(want[c]).epsilon(1e-5));
+        }
+}
+
+TEST_CASE("the cubic B-spline never overshoots; clamping removes Catmull-Rom's overshoot") {
+    // A hard step: 0 0 0 1 1 1 along u. Catmull-Rom rings next to it, below 0 and above 1.
+    std::vector<float> rgba;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 6; ++i) {
+            const float v = i < 3 ? 0.0f : 1.0f;
+            rgba.insert(rgba.end(), {v, v, v, 1.0f});
+        }
+    const Image step = Image::hdr(6, 4, rgba);
+    float catmull_min = 1.0f, catmull_max = 0.0f;
+    for (double u = 0.0; u <= 1.0; u += 1.0 / 256.0) {
+        const float bspline = sample_bicubic(step, cubic(1.0f, 0.0f), u, 0.5).x;
+        CHECK(bspline >= -1e-6f);
+        CHECK(bspline <= 1.0f + 1e-6f);
+        const float catmull = sample_bicubic(step, cubic(0.0f, 0.5f), u, 0.5).x;
+        catmull_min = std::min(catmull_min, catmull), catmull_max = std::max(catmull_max, catmull);
+        const float clamped = sample_bicubic(step, cubic(0.0f, 0.5f, true), u, 0.5).x;
+        CHECK(clamped >= 0.0f);
+        CHECK(clamped <= 1.0f);
+    }
+    CHECK(catmull_min < -0.01f);  // the overshoot exists without the clamp
+    CHECK(catmull_max > 1.01f);
+    // The B-spline on random data stays within the data's range.
+    const Image noise = random_hdr(9, 9, 5);
+    std::mt19937_64 rng(6);
+    std::uniform_real_distribution<double> t(-1.0, 2.0);
+    for (int k = 0; k < 2000; ++k) {
+        const float v = sample_bicubic(noise, cubic(1.0f, 0.0f), t(rng), t(rng)).x;
+        CHECK(v >= -1e-6f);
+        CHECK(v <= 1.0f + 1e-6f);
+    }
+}
+
+TEST_CASE("mip levels of a constant image are constant, for any size") {
+    for (auto [w, h] : {std::pair{64, 64}, std::pair{37, 23}, std::pair{1, 9}, std::pair{100, 3}}) {
+        const MipMap mip(std::make_shared<Image>(constant_ldr(w, h, 173)));
+        const Color4 expected = mip.base().texel(0, 0);
+        int levels = 0;
+        for (int l = 0; l < mip.level_count(); ++l, ++levels) {
+            const Image& level = mip.level(l);
+            for (int j = 0; j < level.height(); ++j)
+                for (int i = 0; i < level.width(); ++i) REQUIRE(level.texel(i, j) == expected);
+        }
+        const Image& top = mip.level(mip.level_count() - 1);
+        CHECK(top.width() == 1);
+        CHECK(top.height() == 1);
+        CHECK(levels == 1 + int(std::floor(std::log2(std::max(w, h)))));
+    }
+}
+
+TEST_CASE("each mip level keeps the base image's mean") {
+    SUBCASE("float levels: exact up to float rounding, odd sizes included") {
+        for (auto [w, h] : {std::pair{37, 23}, std::pair{64, 48}, std::pair{15, 1}}) {
+            const MipMap mip(std::make_shared<Image>(random_hdr(w, h, 3)));
+            const Color4 base = mean_of(mip.base());
+            for (int l = 1; l < mip.level_count(); ++l) {
+                const Color4 m = mean_of(mip.level(l));
+                for (int c = 0; c < 4; ++c) CHECK(m[c] == doctest::Approx(base[c]).epsilon(1e-5));
+            }
+        }
+    }
+    SUBCASE("8-bit linear levels: within half a level of rounding") {
+        std::mt19937_64 rng(9);
+        std::vector<std::uint8_t> rgba(41 * 29 * 4);
+        for (auto& b : rgba) b = std::uint8_t(rng() % 256);
+        const MipMap mip(std::make_shared<Image>(Image::ldr(41, 29, ColorSpace::linear, rgba)));
+        const Color4 base = mean_of(mip.base());
+        for (int l = 1; l < mip.level_count(); ++l) {
+            const Color4 m = mean_of(mip.level(l));
+            for (int c = 0; c < 4; ++c) CHECK(std::fabs(m[c] - base[c]) <= 0.5f / 255.0f + 1e-6f);
+        }
+    }
+}
+
+TEST_CASE("level of detail is 0 at one texel per pixel and 1 at two, whatever the rotation") {
+    for (double degrees : {0.0, 30.0, 45.0, 77.0}) {
+        CAPTURE(degrees);
+        CHECK(level_of_detail(rotated(1.0, degrees, 256), 256, 256) == doctest::Approx(0.0).scale(1.0));
+        CHECK(level_of_detail(rotated(2.0, degrees, 256), 256, 256) == doctest::Approx(1.0));
+        CHECK(level_of_detail(rotated(8.0, degrees, 256), 256, 256) == doctest::Approx(3.0));
+    }
+    // Non-square texture: lengths are measured in texels of each axis.
+    CHECK(level_of_detail({2.0 / 512, 0.0, 0.0, 2.0 / 128}, 512, 128) == doctest::Approx(1.0));
+    // The longer derivative vector decides.
+    CHECK(level_of_detail({1.0 / 256, 0.0, 0.0, 4.0 / 256}, 256, 256) == doctest::Approx(2.0));
+}
+
+TEST_CASE("anisotropic and EWA filtering of a constant texture return the constant") {
+    const MipMap mip(std::make_shared<Image>(constant_ldr(50, 70, 200)));
+    const Color4 expected = mip.base().texel(0, 0);
+    Sampler s;
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> coordinate(-3.0, 3.0), scale(-6.0, 1.0);
+    for (int k = 0; k < 500; ++k) {
+        const double big = std::pow(10.0, scale(rng)), small = big * std::pow(10.0, scale(rng) / 2.0);
+        const UVDerivatives d{big * coordinate(rng), big * coordinate(rng), small * coordinate(rng), small * coordinate(rng)};
+        const double u = coordinate(rng), v = coordinate(rng);
+        int probes = 0, texels = 0;
+        const Color4 a = sample_anisotropic(mip, s, u, v, d, probes);
+        const Color4 e = sample_ewa(mip, s, u, v, d, texels);
+        for (int c = 0; c < 4; ++c) {
+            REQUIRE(a[c] == doctest::Approx(expected[c]).epsilon(1e-5));
+            REQUIRE(e[c] == doctest::Approx(expected[c]).epsilon(1e-5));
+        }
+        CHECK(probes <= 16);
+    }
+}
+
+TEST_CASE("at strong minification of white noise every mipmapped filter approaches its mean") {
+    std::mt19937_64 rng(21);
+    std::vector<std::uint8_t> rgba(256 * 256 * 4);
+    for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = (i % 4 == 3) ? 255 : std::uint8_t(rng() % 256);
+    const MipMap mip(std::make_shared<Image>(Image::ldr(256, 256, ColorSpace::linear, rgba)));
+    const Color4 mean = mean_of(mip.base());
+    Sampler s;
+    std::uniform_real_distribution<double> coordinate(0.0, 1.0);
+    for (double texels_per_pixel : {300.0, 1000.0}) {
+        for (double degrees : {0.0, 35.0}) {
+            // An anisotropic footprint: 300+ texels long, a quarter of that wide.
+            UVDerivatives d = rotated(texels_per_pixel, degrees, 256);
+            d.dudy *= 0.25, d.dvdy *= 0.25;
+            const double u = coordinate(rng), v = coordinate(rng);
+            const double lambda = level_of_detail(d, 256, 256);
+            int n = 0;
+            const Color4 results[] = {sample_mip_nearest(mip, s, u, v, lambda, false), sample_mip_nearest(mip, s, u, v, lambda, true),
+                                      sample_trilinear(mip, s, u, v, lambda), sample_anisotropic(mip, s, u, v, d, n),
+                                      sample_ewa(mip, s, u, v, d, n)};
+            for (const Color4& r : results)
+                for (int c = 0; c < 3; ++c) CHECK(r[c] == doctest::Approx(mean[c]).epsilon(0.03));
+        }
+    }
+}
+
+TEST_CASE("mip filters at one texel per pixel read the base level like bilinear") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(32, 32, 8)));
+    Sampler s;
+    const UVDerivatives d = rotated(1.0, 0.0, 32);
+    for (double u = 0.01; u < 1.0; u += 0.097) {
+        const Color4 want = sample_bilinear(mip.base(), s, u, 0.37);
+        const Color4 got = sample_trilinear(mip, s, u, 0.37, level_of_detail(d, 32, 32));
+        int probes = 0;
+        const Color4 aniso = sample_anisotropic(mip, s, u, 0.37, d, probes);
+        CHECK(probes == 1);
+        for (int c = 0; c < 3; ++c) {
+            CHECK(got[c] == doctest::Approx(want[c]).epsilon(1e-5));
+            CHECK(aniso[c] == doctest::Approx(want[c]).epsilon(1e-5));
+        }
+    }
+}
