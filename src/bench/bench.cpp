@@ -38,6 +38,7 @@ const char* bench_help =
     "  --size WxH      frame size (default 1024x768)\n"
     "  --repeat N      timed frames per measurement; the median is reported (default 7)\n"
     "  --spp N         ground truth: N x N samples per pixel (default 16)\n"
+    "  --threads N     worker threads for the timed frames (default 1)\n"
     "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
     "                  (default: this build's source models/)\n"
     "  --out DIR       output folder (default out/bench)\n"
@@ -49,7 +50,7 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 struct BenchOptions {
-    int width = 1024, height = 768, repeat = 7, spp = 16;
+    int width = 1024, height = 768, repeat = 7, spp = 16, threads = 1;
     std::string models = TEXR_MODELS_DIR, out = "out/bench";
 };
 
@@ -107,7 +108,7 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
             mip_ms += 1000.0 * t.mipmap->build_seconds();
         }
         RenderOptions options;
-        options.width = o.width, options.height = o.height;
+        options.width = o.width, options.height = o.height, options.threads = o.threads;
 
         std::fprintf(stderr, "bench filters: %s ground truth (%dx%d samples per pixel)...\n", name.c_str(), o.spp, o.spp);
         RenderOptions truth_options = options;
@@ -134,7 +135,7 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
             }
             FilterRow row;
             row.scene = name, row.filter = filter_name(Filter(f));
-            row.width = o.width, row.height = o.height, row.threads = 1;
+            row.width = o.width, row.height = o.height, row.threads = o.threads;
             row.load_ms = load_ms, row.mip_ms = mip_ms;
             row.frame_ms = median(times);
             row.covered_pixels = double(stats.pixels_shaded);
@@ -211,6 +212,7 @@ int run_bench(const std::vector<std::string>& args) {
             o.width = parse_int(v.substr(0, x), "--size"), o.height = parse_int(v.substr(x + 1), "--size");
             if (o.width > max_image_side || o.height > max_image_side) throw std::invalid_argument("--size is out of range");
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
+        else if (a == "--threads") o.threads = parse_int(value(), "--threads");
         else if (a == "--spp") o.spp = parse_int(value(), "--spp");
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();

@@ -43,6 +43,10 @@ const char* render_help =
     "                      (each side 1..16384, at most 67108864 pixels)\n"
     "  --repeat N          render the frame N times and print the median frame time\n"
     "                      (default 1)\n"
+    "  --threads N         worker threads (default: one per core); the frame is the\n"
+    "                      same bytes for every N\n"
+    "  --spp N             texture ground truth: N x N samples per pixel, each a\n"
+    "                      bilinear lookup at its exact (u, v), box-filtered\n"
     "  --stats             print counters (triangles in / clipped / culled, spans,\n"
     "                      pixels shaded, texels fetched), what each material needs,\n"
     "                      and the time of each stage\n"
@@ -56,7 +60,7 @@ struct UsageError {
 
 struct RenderArguments {
     std::string scene, output;
-    int width = 0, height = 0, repeat = 1;
+    int width = 0, height = 0, repeat = 1, threads = 0, spp = 1;
     bool stats = false;
 };
 
@@ -70,6 +74,8 @@ int parse_positive(const std::string& text, const std::string& option) {
     }
     if (used != text.size() || text.empty() || value < 1 || value > 1000000000LL)
         throw UsageError{option + " expects a positive whole number, got '" + text + "'"};
+    if ((option == "--threads" && value > 256) || (option == "--spp" && value > 64))
+        throw UsageError{option + " " + text + " is out of range (--threads 1..256, --spp 1..64)"};
     return int(value);
 }
 
@@ -113,6 +119,8 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
         if (a == "-o" || a == "--output") args.output = value();
         else if (a == "--size") parse_size(value(), args);
         else if (a == "--repeat") args.repeat = parse_positive(value(), "--repeat");
+        else if (a == "--threads") args.threads = parse_positive(value(), "--threads");
+        else if (a == "--spp") args.spp = parse_positive(value(), "--spp");
         else if (a == "--stats") args.stats = true;
         else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option '" + a + "' for 'texr render'"};
         else if (args.scene.empty()) args.scene = a;
@@ -162,6 +170,8 @@ int run_render(const std::vector<std::string>& argv) {
     texr::RenderOptions options;
     options.width = args.width;
     options.height = args.height;
+    options.threads = args.threads;
+    options.spp = args.spp;
     texr::RenderStats stats;
     std::vector<double> frame_ms;
     texr::Framebuffer frame(1, 1, {});

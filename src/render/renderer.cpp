@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
@@ -42,6 +43,24 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
+
+// The rows one worker thread owns: bands of band_rows rows, dealt round-robin. Every pixel
+// belongs to exactly one worker, and each worker draws the triangles in submission order,
+// so the frame is the same bytes for any number of threads.
+struct RowSet {
+    static constexpr int band_rows = 8;
+    int index = 0, count = 1;
+
+    bool owns(int y) const { return (y / band_rows) % count == index; }
+    // The first row >= y that this worker owns.
+    int first_owned(int y) const {
+        if (owns(y)) return y;
+        const int band = y / band_rows;
+        const int ahead = ((index - band % count) + count) % count;  // > 0: band is not ours
+        return (band + ahead) * band_rows;
+    }
+    int next_owned(int y) const { return first_owned(y + 1); }
+};
 
 // What one draw (a material on a mesh) shades with.
 struct DrawContext {
@@ -157,10 +176,10 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
 }
 
 template <Needs N>
-void walk_triangle(const DrawContext& d, const TriangleSetup& s, Framebuffer& fb, RenderStats& stats) {
+void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
     int first = 0, last = -1;
     row_range(s.edges, fb.height, first, last);
-    for (int y = first; y <= last; ++y) {
+    for (int y = rows.first_owned(first); y <= last; y = rows.next_owned(y)) {
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
         ++stats.spans;
@@ -169,7 +188,7 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, Framebuffer& fb
 }
 
 // One compiled walk per Needs set.
-using WalkFunction = void (*)(const DrawContext&, const TriangleSetup&, Framebuffer&, RenderStats&);
+using WalkFunction = void (*)(const DrawContext&, const TriangleSetup&, const RowSet&, Framebuffer&, RenderStats&);
 template <std::size_t... I>
 constexpr std::array<WalkFunction, sizeof...(I)> make_walk_table(std::index_sequence<I...>) {
     return {&walk_triangle<Needs(I)>...};
@@ -181,6 +200,24 @@ struct TransformedMesh {
     std::vector<glm::dvec4> clip;
     std::vector<glm::dvec3> world, normal;  // filled only when a material needs them
 };
+
+// The vertex stage of one object: object -> world -> clip, and only what the materials need.
+TransformedMesh transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_projection, Needs needs) {
+    const glm::dmat4 to_clip = view_projection * object.transform;
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
+    const std::size_t n = mesh.vertices.size();
+    TransformedMesh v;
+    v.clip.resize(n);
+    v.world.resize((needs & need_world_position) ? n : 0);
+    v.normal.resize((needs & need_normal) ? n : 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
+        v.clip[i] = to_clip * p;
+        if (needs & need_world_position) v.world[i] = glm::dvec3(object.transform * p);
+        if (needs & need_normal) v.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
+    }
+    return v;
+}
 
 bool finite(const glm::dvec4& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
@@ -195,55 +232,31 @@ std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, co
     return out;
 }
 
+// One worker's share of the frame: every triangle, but only the rows it owns.
 class FrameRenderer {
 public:
-    FrameRenderer(const Scene& scene, int width, int height, int spp, Framebuffer& fb, RenderStats& stats)
-        : scene_(scene), fb_(fb), stats_(stats), width_(width), height_(height), spp_(spp),
-          band_(guard_band_for(width, height)) {
-        view_projection_ = projection_matrix(scene.camera, double(width) / double(height)) * view_matrix(scene.camera);
-        for (const Material& m : scene.materials) needs_.push_back(needs_of(m, scene));
-    }
+    FrameRenderer(const Scene& scene, const std::vector<Needs>& needs, int spp, const RowSet& rows, Framebuffer& fb,
+                  RenderStats& stats)
+        : scene_(scene), fb_(fb), stats_(stats), width_(fb.width), height_(fb.height), spp_(spp),
+          band_(guard_band_for(fb.width, fb.height)), needs_(needs), rows_(rows) {}
 
-    void draw(const Object& object) {
+    void draw(const Object& object, const TransformedMesh& vertices) {
         const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
-        Needs mesh_needs = 0;
-        for (int m : mesh.triangle_material) mesh_needs |= needs_[std::size_t(m)];
-
-        const auto vertex_start = Clock::now();
-        transform(mesh, object, mesh_needs);
-        stats_.seconds_vertex += seconds_since(vertex_start);
-
-        const auto raster_start = Clock::now();
+        v_ = &vertices;
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) draw_triangle(mesh, t, object.cull_back);
-        stats_.seconds_raster += seconds_since(raster_start);
     }
 
 private:
-    void transform(const Mesh& mesh, const Object& object, Needs needs) {
-        const glm::dmat4 to_clip = view_projection_ * object.transform;
-        const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
-        const std::size_t n = mesh.vertices.size();
-        v_.clip.resize(n);
-        v_.world.resize((needs & need_world_position) ? n : 0);
-        v_.normal.resize((needs & need_normal) ? n : 0);
-        for (std::size_t i = 0; i < n; ++i) {
-            const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
-            v_.clip[i] = to_clip * p;
-            if (needs & need_world_position) v_.world[i] = glm::dvec3(object.transform * p);
-            if (needs & need_normal) v_.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
-        }
-    }
-
     void draw_triangle(const Mesh& mesh, std::size_t t, bool cull_back) {
-        ++stats_.triangles_in;
+        ++triangle_counters_.triangles_in;
         const auto& tri = mesh.triangles[t];
-        const glm::dvec4& a = v_.clip[tri[0]];
-        const glm::dvec4& b = v_.clip[tri[1]];
-        const glm::dvec4& c = v_.clip[tri[2]];
-        if (!finite(a) || !finite(b) || !finite(c)) { ++stats_.triangles_dropped; return; }
+        const glm::dvec4& a = v_->clip[tri[0]];
+        const glm::dvec4& b = v_->clip[tri[1]];
+        const glm::dvec4& c = v_->clip[tri[2]];
+        if (!finite(a) || !finite(b) || !finite(c)) { ++triangle_counters_.triangles_dropped; return; }
         const ClipResult result = clip_triangle(a, b, c, band_, polygon_);
-        if (result == ClipResult::outside) { ++stats_.triangles_culled; return; }
-        if (result == ClipResult::clipped) ++stats_.triangles_clipped;
+        if (result == ClipResult::outside) { ++triangle_counters_.triangles_culled; return; }
+        if (result == ClipResult::clipped) ++triangle_counters_.triangles_clipped;
 
         const int material = mesh.triangle_material[t];
         const DrawContext d{scene_, scene_.materials[std::size_t(material)],
@@ -276,12 +289,12 @@ private:
             weights[std::size_t(k)] = piece[std::size_t(k)].weights;
         }
         TriangleSetup s;
-        if (!triangle_edges(snapped, s.edges)) { ++stats_.triangles_dropped; return; }
+        if (!triangle_edges(snapped, s.edges)) { ++triangle_counters_.triangles_dropped; return; }
         // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
         // front-facing triangle has negative signed area there.
-        if (cull_back && twice_signed_area(snapped) > 0) { ++stats_.triangles_culled; return; }
-        if (off_screen(snapped)) { ++stats_.triangles_culled; return; }
-        ++stats_.triangles_set_up;
+        if (cull_back && twice_signed_area(snapped) > 0) { ++triangle_counters_.triangles_culled; return; }
+        if (off_screen(snapped) || !owns_any_row(s.edges)) { ++triangle_counters_.triangles_culled; return; }
+        ++triangle_counters_.triangles_set_up;
 
         const auto lambda = barycentric_planes(screen);
         s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
@@ -292,13 +305,13 @@ private:
         }
         for (int axis = 0; axis < 3; ++axis) {
             if (needs & need_normal)
-                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_.normal[i][axis]; }), inv_w);
+                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_->normal[i][axis]; }), inv_w);
             if (needs & need_color)
                 s.color[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].color[axis]; }), inv_w);
             if (needs & need_world_position)
-                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_.world[i][axis]; }), inv_w);
+                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v_->world[i][axis]; }), inv_w);
         }
-        walk_table[needs](d, s, fb_, stats_);
+        walk_table[needs](d, s, rows_, fb_, stats_);
     }
 
     bool off_screen(const std::array<SnappedVertex, 3>& v) const {
@@ -309,25 +322,71 @@ private:
                min_y > (height_ - 1) * subpixel_scale + half;
     }
 
+    bool owns_any_row(const TriangleEdges& edges) const {
+        int first = 0, last = -1;
+        row_range(edges, height_, first, last);
+        return rows_.first_owned(first) <= last;
+    }
+
+public:
+    // Per-triangle decisions are the same in every worker; worker 0's count is the frame's.
+    RenderStats triangle_counters_;
+
+private:
     const Scene& scene_;
     Framebuffer& fb_;
     RenderStats& stats_;
     int width_, height_, spp_;
     GuardBand band_;
-    glm::dmat4 view_projection_;
-    std::vector<Needs> needs_;
-    TransformedMesh v_;
+    const std::vector<Needs>& needs_;
+    RowSet rows_;
+    const TransformedMesh* v_ = nullptr;
     ClipPolygon polygon_;
 };
 
 }  // namespace
 
+int thread_count(int requested) {
+    if (requested > 0) return requested;
+    return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
     Framebuffer fb(width, height, scene.background);
-    FrameRenderer frame(scene, width, height, std::max(1, options.spp), fb, stats);
-    for (const Object& object : scene.objects) frame.draw(object);
+    std::vector<Needs> needs;
+    for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
+
+    // Vertex stage, once for all workers.
+    const auto vertex_start = Clock::now();
+    const glm::dmat4 view_projection = projection_matrix(scene.camera, double(width) / double(height)) * view_matrix(scene.camera);
+    std::vector<TransformedMesh> transformed;
+    for (const Object& object : scene.objects) {
+        const Mesh& mesh = scene.meshes[std::size_t(object.mesh)];
+        Needs mesh_needs = 0;
+        for (int m : mesh.triangle_material) mesh_needs |= needs[std::size_t(m)];
+        transformed.push_back(transform(mesh, object, view_projection, mesh_needs));
+    }
+    stats.seconds_vertex += seconds_since(vertex_start);
+
+    // Raster stage: each worker owns an interleaved set of row bands.
+    const auto raster_start = Clock::now();
+    const int workers = std::min(thread_count(options.threads), std::max(1, height / RowSet::band_rows));
+    std::vector<RenderStats> worker_stats(static_cast<std::size_t>(workers));
+    RenderStats triangle_counters;
+    auto work = [&](int index) {
+        FrameRenderer frame(scene, needs, std::max(1, options.spp), RowSet{index, workers}, fb, worker_stats[std::size_t(index)]);
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) frame.draw(scene.objects[i], transformed[i]);
+        if (index == 0) triangle_counters = frame.triangle_counters_;
+    };
+    std::vector<std::thread> threads;
+    for (int t = 1; t < workers; ++t) threads.emplace_back(work, t);
+    work(0);
+    for (std::thread& t : threads) t.join();
+    stats.add_counters(triangle_counters);
+    for (const RenderStats& w : worker_stats) stats.add_counters(w);
+    stats.seconds_raster += seconds_since(raster_start);
     return fb;
 }
 

@@ -3,6 +3,7 @@
 
 #include <stb_image.h>
 
+#include <array>
 #include <cstring>
 #include <fstream>
 
@@ -16,6 +17,8 @@ Image Image::ldr(int width, int height, ColorSpace space, std::vector<std::uint8
     image.height_ = height;
     image.space_ = space;
     image.texels_8_ = std::move(rgba);
+    image.inv_width_ = 1.0 / width, image.inv_height_ = 1.0 / height;
+    image.decode_ = space == ColorSpace::srgb ? srgb8_to_linear_table() : unorm8_to_float_table();
     return image;
 }
 
@@ -25,7 +28,17 @@ Image Image::hdr(int width, int height, std::vector<float> rgba) {
     image.height_ = height;
     image.space_ = ColorSpace::linear;  // Radiance files hold linear radiance
     image.texels_f_ = std::move(rgba);
+    image.inv_width_ = 1.0 / width, image.inv_height_ = 1.0 / height;
     return image;
+}
+
+const float* unorm8_to_float_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[std::size_t(i)] = float(i) / 255.0f;
+        return t;
+    }();
+    return table.data();
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // Nearest, bilinear and bicubic reconstruction (see include/texr/texture/reconstruct.h).
 #include "texr/texture/reconstruct.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/common.hpp>
@@ -9,17 +10,11 @@ namespace texr {
 
 namespace {
 
-// floor() for |x| < 2^62 without a library call (x86-64's baseline has no rounding opcode).
-inline double fast_floor(double x) {
-    const double t = double(static_cast<std::int64_t>(x));
-    return t > x ? t - 1.0 : t;
-}
-
 // Texture coordinate -> lattice coordinate (texels), reduced by whole periods so it fits an int.
-inline double lattice(Registration registration, Wrap wrap, double t, int n) {
+inline double lattice(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
     if (x >= 0.0 && x < double(n - 1)) return x;  // the common case: nothing to reduce
-    return reduce_lattice(wrap, x, n);
+    return reduce_lattice(wrap, x, n, inv_n);
 }
 
 inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
@@ -35,35 +30,59 @@ Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
 
 namespace {
 
-int lattice_for_nearest(Registration registration, Wrap wrap, double t, int n) {
-    const double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
-    const int l = int(fast_floor(reduce_lattice(wrap, x, n)));
+// The texel nearest to t along one axis, wrapped (-1: border).
+inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+    double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
+    if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
+    const int l = int(fast_floor(x));
     // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
     if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
-    return l;
+    if (wrap == Wrap::repeat && l < n) return l;  // reduced into [0, n) already
+    return wrap_index(wrap, l, n);
 }
 
 }  // namespace
 
 Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
-    const int lu = lattice_for_nearest(sampler.registration, sampler.wrap_u, u, image.width());
-    const int lv = lattice_for_nearest(sampler.registration, sampler.wrap_v, v, image.height());
-    return fetch(image, sampler, lu, lv);
+    const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
+    const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
+    return texel_or_border(image, sampler, i, j);
 }
 
+namespace {
+
+// The two lattice neighbours of a coordinate along one axis, wrapped, and the fraction
+// between them.
+struct AxisTaps {
+    int i0, i1;  // -1: border
+    float f;
+};
+
+inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+    double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
+    if (wrap == Wrap::repeat) {
+        // Fast path: reduce into [0, n) once; the right neighbour of n - 1 is 0.
+        if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
+        const int i0 = std::min(int(x), n - 1);  // x >= 0: truncation is floor
+        return {i0, i0 + 1 < n ? i0 + 1 : 0, float(x - i0)};
+    }
+    x = reduce_lattice(wrap, x, n, inv_n);
+    const double x0 = fast_floor(x);
+    const int i = int(x0);
+    return {wrap_index(wrap, i, n), wrap_index(wrap, i + 1, n), float(x - x0)};
+}
+
+}  // namespace
+
 Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
-    const int w = image.width(), h = image.height();
-    const double x = lattice(sampler.registration, sampler.wrap_u, u, w);
-    const double y = lattice(sampler.registration, sampler.wrap_v, v, h);
-    const double x0 = fast_floor(x), y0 = fast_floor(y);
-    const float fu = float(x - x0), fv = float(y - y0);
-    // Wrap the two columns and two rows once each.
-    const int i0 = wrap_index(sampler.wrap_u, int(x0), w), i1 = wrap_index(sampler.wrap_u, int(x0) + 1, w);
-    const int j0 = wrap_index(sampler.wrap_v, int(y0), h), j1 = wrap_index(sampler.wrap_v, int(y0) + 1, h);
+    const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
+    const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
     // Successive linear interpolations: along v in columns i0 and i1, then along u.
-    const Color4 column0 = (1.0f - fv) * texel_or_border(image, sampler, i0, j0) + fv * texel_or_border(image, sampler, i0, j1);
-    const Color4 column1 = (1.0f - fv) * texel_or_border(image, sampler, i1, j0) + fv * texel_or_border(image, sampler, i1, j1);
-    return (1.0f - fu) * column0 + fu * column1;
+    const Color4 column0 = texel_or_border(image, sampler, a.i0, b.i0) +
+                           b.f * (texel_or_border(image, sampler, a.i0, b.i1) - texel_or_border(image, sampler, a.i0, b.i0));
+    const Color4 column1 = texel_or_border(image, sampler, a.i1, b.i0) +
+                           b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
+    return column0 + a.f * (column1 - column0);
 }
 
 float mitchell_netravali(float x, float b, float c) {
@@ -78,8 +97,8 @@ float mitchell_netravali(float x, float b, float c) {
 
 Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, double v) {
     const int w = image.width(), h = image.height();
-    const double x = lattice(sampler.registration, sampler.wrap_u, u, w);
-    const double y = lattice(sampler.registration, sampler.wrap_v, v, h);
+    const double x = lattice(sampler.registration, sampler.wrap_u, u, w, image.inv_width());
+    const double y = lattice(sampler.registration, sampler.wrap_v, v, h, image.inv_height());
     const double x0 = fast_floor(x), y0 = fast_floor(y);
     const float fu = float(x - x0), fv = float(y - y0);
     // Taps at offsets -1, 0, 1, 2 from floor(x): distances 1 + f, f, 1 - f, 2 - f.

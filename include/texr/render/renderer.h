@@ -14,6 +14,8 @@ struct RenderOptions {
     // Texture ground truth: spp x spp stratified samples per pixel, each a bilinear lookup
     // in the base level at its own exact (u, v), box-filtered. 1 = the textures' own filters.
     int spp = 1;
+    // Worker threads; 0 = one per core. The frame is the same bytes for every count.
+    int threads = 0;
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);

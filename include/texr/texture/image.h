@@ -21,6 +21,8 @@ public:
 
     int width() const { return width_; }
     int height() const { return height_; }
+    double inv_width() const { return inv_width_; }
+    double inv_height() const { return inv_height_; }
     bool is_hdr() const { return !texels_f_.empty(); }
     ColorSpace color_space() const { return space_; }
     std::size_t bytes() const { return texels_8_.size() + texels_f_.size() * sizeof(float); }
@@ -31,19 +33,20 @@ public:
         if (!texels_f_.empty())
             return {texels_f_[k], texels_f_[k + 1], texels_f_[k + 2], texels_f_[k + 3]};
         const std::uint8_t* t = &texels_8_[k];
-        if (space_ == ColorSpace::srgb) {
-            const float* decode = srgb8_to_linear_table();
-            return {decode[t[0]], decode[t[1]], decode[t[2]], t[3] * (1.0f / 255.0f)};
-        }
-        return Color4(t[0], t[1], t[2], t[3]) * (1.0f / 255.0f);
+        return {decode_[t[0]], decode_[t[1]], decode_[t[2]], t[3] * (1.0f / 255.0f)};
     }
 
 private:
     int width_ = 0, height_ = 0;
+    double inv_width_ = 0.0, inv_height_ = 0.0;
     ColorSpace space_ = ColorSpace::srgb;
     std::vector<std::uint8_t> texels_8_;
     std::vector<float> texels_f_;
+    const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255
 };
+
+// The table that reads 8-bit data texels as k / 255.
+const float* unorm8_to_float_table();
 
 // Loads PNG, JPEG, TGA, BMP (8-bit) or Radiance HDR (float) with stb_image.
 // `space` says how 8-bit texels are to be read: srgb for colour, linear for data.

@@ -54,17 +54,37 @@ inline int wrap_index(Wrap mode, int i, int n) {
     return 0;
 }
 
+// floor() for |x| < 2^62 without a library call (x86-64's baseline has no rounding opcode).
+inline double fast_floor(double x) {
+    const double t = double(static_cast<long long>(x));
+    return t > x ? t - 1.0 : t;
+}
+
 // Brings a lattice coordinate x (in texels) into a small range that the mode treats the
 // same: whole periods (n texels for repeat, 2n for mirror) are removed; for clamp and
 // border everything beyond two texels outside the image behaves like two texels outside.
-inline double reduce_lattice(Wrap mode, double x, int n) {
+// inv_n = 1 / n (the caller keeps it, so no division per lookup). Coordinates beyond 1e15
+// texels, NaN included, carry no fraction any more and are read as 0.
+inline double reduce_lattice(Wrap mode, double x, int n, double inv_n) {
     switch (mode) {
-        case Wrap::repeat: return x - double(n) * std::floor(x / double(n));
-        case Wrap::mirror: return x - 2.0 * double(n) * std::floor(x / (2.0 * double(n)));
+        case Wrap::repeat:
+        case Wrap::mirror: {
+            if (!(std::fabs(x) < 1e15)) return 0.0;
+            const double period = mode == Wrap::repeat ? double(n) : 2.0 * double(n);
+            const double inv_period = mode == Wrap::repeat ? inv_n : 0.5 * inv_n;
+            double r = x - period * fast_floor(x * inv_period);
+            // x * inv_period is rounded: put r back into [0, period) if it slipped out.
+            if (r < 0.0) r += period;
+            else if (r >= period) r -= period;
+            return r;
+        }
         case Wrap::clamp:
-        case Wrap::border: return std::clamp(x, -2.0, double(n) + 2.0);
+        case Wrap::border:
+            if (!(x == x)) return 0.0;
+            return std::clamp(x, -2.0, double(n) + 2.0);
     }
     return x;
 }
+inline double reduce_lattice(Wrap mode, double x, int n) { return reduce_lattice(mode, x, n, 1.0 / n); }
 
 }  // namespace texr

@@ -1,0 +1,32 @@
+// The same scene and options give the same bytes, whatever the thread count.
+#include <doctest/doctest.h>
+
+#include "helpers.h"
+#include "texr/io/frame_writer.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
+
+using namespace texr;
+
+TEST_CASE("frames are byte-identical for 1, 2, 3, 5 and 16 threads") {
+    for (const char* file : {"models/demo.scene", "models/bench/grazing.scene"}) {
+        CAPTURE(file);
+        Scene scene = load_scene(testing::source_path(file));
+        for (Texture& t : scene.textures) t.sampler.filter = Filter::trilinear;  // mip levels built under threads
+        RenderOptions options;
+        options.width = 203, options.height = 157;  // rows not a multiple of the band height
+        options.threads = 1;
+        RenderStats reference_stats;
+        const Framebuffer reference = render(scene, options, reference_stats);
+        for (int threads : {2, 3, 5, 16}) {
+            options.threads = threads;
+            RenderStats stats;
+            const Framebuffer fb = render(scene, options, stats);
+            CHECK(fb.color == reference.color);
+            CHECK(fb.depth == reference.depth);
+            CHECK(stats.pixels_shaded == reference_stats.pixels_shaded);
+            CHECK(stats.triangles_set_up == reference_stats.triangles_set_up);
+            CHECK(stats.texels_fetched == reference_stats.texels_fetched);
+        }
+    }
+}
