@@ -293,8 +293,9 @@ private:
         // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
         // front-facing triangle has negative signed area there.
         if (cull_back && twice_signed_area(snapped) > 0) { ++triangle_counters_.triangles_culled; return; }
-        if (off_screen(snapped) || !owns_any_row(s.edges)) { ++triangle_counters_.triangles_culled; return; }
+        if (off_screen(snapped)) { ++triangle_counters_.triangles_culled; return; }
         ++triangle_counters_.triangles_set_up;
+        if (!owns_any_row(s.edges)) return;  // all its rows belong to other workers
 
         const auto lambda = barycentric_planes(screen);
         s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
