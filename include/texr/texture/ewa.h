@@ -1,6 +1,7 @@
 // Elliptical weighted average (Heckbert 1989, "Fundamentals of Texture Mapping and Image
 // Warping", section 3.5.8). The pixel's footprint is the ellipse spanned by the derivative
-// vectors d1 = (du/dx, dv/dx) and d2 = (du/dy, dv/dy) (in texels of the level read):
+// vectors d1 = (du/dx, dv/dx) and d2 = (du/dy, dv/dy), scaled by 0.7 (ewa.cpp says why),
+// in texels of the level read:
 //   Q(s, t) = A s^2 + B s t + C t^2 <= F,   with
 //   A = d1v^2 + d2v^2 + 1,  B = -2 (d1u d1v + d2u d2v),  C = d1u^2 + d2u^2 + 1,  F = A C - B^2 / 4
 // (the +1 adds a one-texel reconstruction disc, so magnified footprints stay well formed).
