@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # texr's one entry point for building, the demo and the tests.
 #   ./build.sh demo   install what is missing, build (Release), render models/demo.scene to out/demo.png
-#   ./build.sh test   install what is missing, build (Release), run every test
+#   ./build.sh test   install what is missing, build (Release) and run every test; then the
+#                     same tests built with AddressSanitizer + UBSan, then a short libFuzzer
+#                     run of the scene parser and the OBJ path (TEXR_FUZZ_SECONDS, default 20)
 #   ./build.sh bench  install what is missing, build (Release), run texr bench
 set -euo pipefail
 cd "$(dirname "$0")"
 
-packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev doctest-dev)
+packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev doctest-dev clang libclang-rt-14-dev)
 
 install_missing() {
     local missing=()
@@ -31,6 +33,29 @@ build() {
     cmake --build build -j "$(nproc)"
 }
 
+sanitized_tests() {
+    echo "== the tests again, under AddressSanitizer and UBSan"
+    cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_SANITIZE=ON >/dev/null
+    cmake --build build-asan -j "$(nproc)"
+    ctest --test-dir build-asan --output-on-failure -j "$(nproc)"
+}
+
+fuzz() {
+    local seconds="${TEXR_FUZZ_SECONDS:-20}"
+    echo "== fuzzing the scene parser and the OBJ path, ${seconds} s each"
+    CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_FUZZ=ON -DBUILD_TESTING=OFF >/dev/null
+    cmake --build build-fuzz -j "$(nproc)" --target texr_fuzz_scene texr_fuzz_obj
+    for target in scene obj; do
+        # New inputs go to a scratch folder; the committed corpus is only read.
+        local scratch
+        scratch="$(mktemp -d)"
+        (cd build-fuzz && ./texr_fuzz_$target -max_total_time="$seconds" -max_len=4096 -rss_limit_mb=4096 \
+            -print_final_stats=0 "$scratch" "../tests/fuzz/corpus/$target" 2>&1 | tail -n 2)
+        rm -rf "$scratch"
+    done
+    echo "fuzzing: no crash"
+}
+
 case "${1:-}" in
     demo)
         install_missing
@@ -42,6 +67,8 @@ case "${1:-}" in
         install_missing
         build
         ctest --test-dir build --output-on-failure -j "$(nproc)"
+        sanitized_tests
+        fuzz
         ;;
     bench)
         install_missing

@@ -174,3 +174,18 @@ TEST_CASE("--stats and --repeat report counters and a median frame time") {
     CHECK(r.output.find("pixels shaded") != std::string::npos);
     CHECK(r.output.find("material red") != std::string::npos);
 }
+
+TEST_CASE("an OBJ face that refers to a missing normal or texture coordinate is refused") {
+    // Found by the OBJ fuzzer: tinyobjloader passes such indices through unchecked.
+    const std::string dir = scratch_folder("obj-bad-normal");
+    write_text(dir + "/bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//4\n");
+    write_text(dir + "/bad-vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/9\n");
+    for (const char* obj : {"bad.obj", "bad-vt.obj"}) {
+        write_text(dir + "/scene.txt", std::string("mesh ") + obj + "\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("that does not exist") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+}

@@ -63,6 +63,8 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     mesh.has_normals = !attrib.normals.empty();
     std::map<std::tuple<int, int, int>, std::uint32_t> vertex_of;
     const int position_count = int(attrib.vertices.size() / 3);
+    const int normal_count = int(attrib.normals.size() / 3);
+    const int uv_count = int(attrib.texcoords.size() / 2);
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
         const auto& indices = shape.mesh.indices;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
@@ -72,6 +74,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 const tinyobj::index_t& idx = indices[3 * f + std::size_t(k)];
                 if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
                     throw InputError(path, 0, "face refers to a vertex that does not exist");
+                if (idx.normal_index >= normal_count)
+                    throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
+                if (idx.texcoord_index >= uv_count)
+                    throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
                 face_has_uv = face_has_uv && idx.texcoord_index >= 0;
                 face_has_normal = face_has_normal && idx.normal_index >= 0;
                 const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
