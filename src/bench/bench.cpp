@@ -64,7 +64,7 @@ FrameBytes bytes_of(const Framebuffer& fb) { return {fb.width, fb.height, encode
 
 std::vector<bool> covered(const Framebuffer& fb) {
     std::vector<bool> mask(fb.depth.size());
-    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = fb.depth[i] < 1.0f;
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = fb.drawn(i);
     return mask;
 }
 

@@ -183,6 +183,8 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
         ++stats.spans;
+        if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
+            for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
         shade_span<N>(d, s, y, span, fb, stats);
     }
 }
@@ -194,6 +196,19 @@ constexpr std::array<WalkFunction, sizeof...(I)> make_walk_table(std::index_sequ
     return {&walk_triangle<Needs(I)>...};
 }
 constexpr auto walk_table = make_walk_table(std::make_index_sequence<need_all + 1>());
+
+// Large texture coordinates: for periodic wraps, shift a triangle's coordinates by a whole
+// number of periods (1 for repeat, 2 for mirror) so the smallest is in [0, period). The
+// texture reads the same, and u', v' keep their precision (a quad with UVs near 1e5
+// renders like one near 0). Clamp and border are not periodic and are left alone.
+void rebase(std::array<double, 3>& t, Wrap wrap) {
+    if (wrap != Wrap::repeat && wrap != Wrap::mirror) return;
+    const double period = wrap == Wrap::repeat ? 1.0 : 2.0;
+    const double low = std::min({t[0], t[1], t[2]});
+    if (!(std::fabs(low) < 1e15)) return;  // beyond that no fraction is left to keep
+    const double shift = period * std::floor(low / period);
+    for (double& x : t) x -= shift;
+}
 
 // Object-space vertex data carried to clip space, per object.
 struct TransformedMesh {
@@ -301,8 +316,12 @@ private:
         s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
         s.h.q = over_w_plane(lambda, {1.0, 1.0, 1.0}, inv_w);
         if (needs & need_uv) {
-            s.h.u_prime = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; }), inv_w);
-            s.h.v_prime = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; }), inv_w);
+            std::array<double, 3> u = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
+            std::array<double, 3> v = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
+            rebase(u, d.texture->sampler.wrap_u);
+            rebase(v, d.texture->sampler.wrap_v);
+            s.h.u_prime = over_w_plane(lambda, u, inv_w);
+            s.h.v_prime = over_w_plane(lambda, v, inv_w);
         }
         for (int axis = 0; axis < 3; ++axis) {
             if (needs & need_normal)
@@ -356,6 +375,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
     Framebuffer fb(width, height, scene.background);
+    if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
     std::vector<Needs> needs;
     for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
 

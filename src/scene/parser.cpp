@@ -387,7 +387,7 @@ private:
                 if (int(mesh.vertices.size()) == corners) c.fail(what + " has more than " + std::to_string(corners) + " vertices");
                 Vertex v;
                 v.position = glm::vec3(c.vec3("the vertex position"));
-                v.uv = {float(c.number("the vertex u")), float(c.number("the vertex v"))};
+                v.uv = {c.number("the vertex u"), c.number("the vertex v")};
                 mesh.vertices.push_back(v);
             } else if (key == "n" || key == "c") {
                 if (mesh.vertices.empty()) c.fail("'" + key + "' belongs after a vertex 'v x y z u v'");

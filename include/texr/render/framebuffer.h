@@ -1,5 +1,7 @@
 // The frame being rendered: linear RGB colour and a depth buffer, row 0 at the top.
 #pragma once
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "texr/core/color.h"
@@ -9,12 +11,20 @@ namespace texr {
 struct Framebuffer {
     int width = 0, height = 0;
     std::vector<Color> color;  // linear RGB
-    std::vector<float> depth;  // window depth in [0, 1]; 1 is the far plane
+    // Window depth in [0, 1] (1 is the far plane), cleared to "nothing here" (+infinity):
+    // a surface at the far plane itself, or one whose depth rounds to 1 when near/far is
+    // extreme, is still drawn.
+    std::vector<float> depth;
+    static constexpr float empty_depth = std::numeric_limits<float>::infinity();
+    // Test instrumentation, empty unless sized by the caller: how many triangles covered
+    // each pixel (counted before the depth test).
+    std::vector<std::uint16_t> coverage;
 
     Framebuffer(int w, int h, Color background)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h), background),
-          depth(std::size_t(w) * std::size_t(h), 1.0f) {}
+          depth(std::size_t(w) * std::size_t(h), empty_depth) {}
 
+    bool drawn(std::size_t i) const { return depth[i] != empty_depth; }
     std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
 };
 

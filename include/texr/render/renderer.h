@@ -16,6 +16,7 @@ struct RenderOptions {
     int spp = 1;
     // Worker threads; 0 = one per core. The frame is the same bytes for every count.
     int threads = 0;
+    bool count_coverage = false;  // fill Framebuffer::coverage (tests)
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);

@@ -53,7 +53,7 @@ struct Light {
 struct Vertex {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
-    glm::vec2 uv{0.0f};
+    glm::dvec2 uv{0.0};  // double: texture coordinates far from 0 keep their fraction
     Color color{1.0f};
 };
 

@@ -1,0 +1,285 @@
+// Numerical stress: extreme w, far-away vertices, slivers, NaN/Inf, large and degenerate
+// texture coordinates, a million random triangles, and closed meshes covered exactly once.
+// Every expectation here is a property (finite, convex, counted, even) or a closed form.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "helpers.h"
+#include "texr/render/renderer.h"
+
+using namespace texr;
+
+namespace {
+
+Vertex vertex(double x, double y, double z, double u = 0, double v = 0, Color color = Color(1.0f)) {
+    Vertex out;
+    out.position = glm::vec3(float(x), float(y), float(z));
+    out.uv = {u, v};
+    out.color = color;
+    return out;
+}
+
+std::shared_ptr<MipMap> noise_texture(int size, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<std::uint8_t> rgba(std::size_t(size) * std::size_t(size) * 4);
+    for (auto& b : rgba) b = std::uint8_t(rng() % 256);
+    return std::make_shared<MipMap>(std::make_shared<Image>(Image::ldr(size, size, ColorSpace::srgb, rgba)));
+}
+
+void add_texture(Scene& scene, Filter filter, Wrap wrap = Wrap::repeat) {
+    Texture t;
+    t.name = "noise";
+    t.mipmap = noise_texture(64, 3);
+    t.image = std::shared_ptr<const Image>(t.mipmap, &t.mipmap->base());
+    t.sampler.filter = filter;
+    t.sampler.wrap_u = t.sampler.wrap_v = wrap;
+    scene.textures.push_back(t);
+    Material m;
+    m.texture = int(scene.textures.size()) - 1;
+    scene.materials.push_back(m);
+}
+
+struct FrameCheck {
+    bool finite = true, depth_in_range = true, colour_in_unit_range = true;
+    int drawn = 0;
+};
+
+FrameCheck check_frame(const Framebuffer& fb) {
+    FrameCheck c;
+    for (std::size_t i = 0; i < fb.color.size(); ++i) {
+        const Color& col = fb.color[i];
+        for (int k = 0; k < 3; ++k) {
+            c.finite = c.finite && std::isfinite(col[k]);
+            c.colour_in_unit_range = c.colour_in_unit_range && col[k] >= -1e-4f && col[k] <= 1.0f + 1e-4f;
+        }
+        c.depth_in_range = c.depth_in_range && (!fb.drawn(i) || (fb.depth[i] >= 0.0f && fb.depth[i] <= 1.0f));
+        c.drawn += fb.drawn(i);
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("stress: triangles crossing the camera plane with w from 1e-9 to 1e9") {
+    for (int e = -9; e <= 9; ++e) {
+        CAPTURE(e);
+        const double w = std::pow(10.0, e);
+        Scene scene = testing::camera_scene(64, 48, {0, 0, 0}, {0, 0, -1}, 90.0, 1e-10, 1e10);
+        Material m;
+        m.vertex_colors = true;
+        scene.materials.push_back(m);
+        // One vertex at depth w, one behind the camera, one at depth 2; colours in [0, 1].
+        testing::add_triangle(scene, {vertex(0.3 * w, -0.2 * w, -w, 0, 0, {1, 0, 0}), vertex(-1, -1, 1, 0, 0, {0, 1, 0}),
+                                      vertex(2, 1.5, -2, 0, 0, {0, 0, 1})}, 0);
+        testing::add_triangle(scene, {vertex(-w, -w, -w, 0, 0, {1, 1, 0}), vertex(w, -w, -w, 0, 0, {0, 1, 1}),
+                                      vertex(0, 0.5, -0.5, 0, 0, {1, 0, 1})}, 0);
+        RenderStats stats;
+        const Framebuffer fb = render(scene, {}, stats);
+        const FrameCheck c = check_frame(fb);
+        CHECK(c.finite);
+        CHECK(c.depth_in_range);
+        CHECK(c.colour_in_unit_range);  // perspective-correct colours are convex combinations
+        CHECK(c.drawn > 0);
+    }
+}
+
+TEST_CASE("stress: vertices 1e7 pixels outside the screen still cover every pixel exactly once") {
+    // A square at depth 1 facing the camera (90 degree view, 64 px): x_ndc = X, so X = 3e5
+    // is 9.6e6 pixels right of the screen. Red grows linearly with X across the square.
+    Scene scene = testing::camera_scene(64, 64, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);
+    Material m;
+    m.vertex_colors = true;
+    scene.materials.push_back(m);
+    const double r = 3e5;
+    const Vertex a = vertex(-r, -r, -1, 0, 0, {0, 0, 0}), b = vertex(r, -r, -1, 0, 0, {1, 0, 0});
+    const Vertex c = vertex(r, r, -1, 0, 0, {1, 0, 0}), d = vertex(-r, r, -1, 0, 0, {0, 0, 0});
+    testing::add_triangle(scene, {a, b, c}, 0);
+    testing::add_triangle(scene, {a, c, d}, 0);
+    RenderOptions options;
+    options.count_coverage = true;
+    RenderStats stats;
+    const Framebuffer fb = render(scene, options, stats);
+    double worst = 0.0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            REQUIRE(fb.coverage[fb.index(x, y)] == 1);
+            const double world_x = (x + 0.5) / 32.0 - 1.0;
+            const double expected = (world_x + r) / (2 * r);  // about 0.5, varying by 1e-6
+            worst = std::max(worst, std::fabs(fb.color[fb.index(x, y)].x - expected));
+        }
+    CHECK(worst < 1e-5);
+    CHECK(stats.triangles_clipped == 2);
+}
+
+TEST_CASE("stress: slivers and zero-area triangles draw nothing wrong") {
+    Scene scene = testing::camera_scene(64, 64, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);
+    scene.materials.push_back(Material{});
+    // Area ~1e-8 px^2 after projection: snapped to zero, or a sliver at most a pixel wide.
+    testing::add_triangle(scene, {vertex(-0.5, 0.1, -1), vertex(0.5, 0.1, -1), vertex(0.0, 0.1 + 1e-9, -1)}, 0);
+    testing::add_triangle(scene, {vertex(-0.5, -0.3, -1), vertex(0.5, -0.3, -1), vertex(0.6, -0.3, -1)}, 0);  // collinear
+    testing::add_triangle(scene, {vertex(0.2, 0.2, -1), vertex(0.2, 0.2, -1), vertex(0.2, 0.2, -1)}, 0);     // a point
+    RenderOptions options;
+    options.count_coverage = true;
+    RenderStats stats;
+    const Framebuffer fb = render(scene, options, stats);
+    CHECK(stats.triangles_dropped == 3);
+    CHECK(stats.pixels_shaded == 0);
+    for (auto n : fb.coverage) CHECK(n == 0);
+}
+
+TEST_CASE("stress: NaN and Inf vertices are dropped and counted, never drawn") {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    Scene scene = testing::camera_scene(32, 32, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);
+    scene.materials.push_back(Material{});
+    testing::add_triangle(scene, {vertex(nan, 0, -1), vertex(1, 0, -1), vertex(0, 1, -1)}, 0);
+    testing::add_triangle(scene, {vertex(-1, -1, -1), vertex(inf, 0, -1), vertex(0, 1, -1)}, 0);
+    testing::add_triangle(scene, {vertex(-1, -1, -1), vertex(1, -1, -1), vertex(0, -1, -inf)}, 0);
+    RenderStats stats;
+    const Framebuffer fb = render(scene, {}, stats);
+    CHECK(stats.triangles_dropped == 3);
+    CHECK(check_frame(fb).drawn == 0);
+    CHECK(check_frame(fb).finite);
+}
+
+TEST_CASE("stress: UVs offset by 1e5 render the same as offset 0 (re-based per triangle)") {
+    // Stated tolerance: 1e-6 in linear colour. Re-basing by whole periods makes the setup
+    // identical, so in practice the frames match exactly.
+    for (Wrap wrap : {Wrap::repeat, Wrap::mirror}) {
+        Framebuffer frames[2] = {Framebuffer(1, 1, {}), Framebuffer(1, 1, {})};
+        for (int k = 0; k < 2; ++k) {
+            const double offset = k == 0 ? 0.0 : 1e5;
+            Scene scene = testing::camera_scene(96, 64, {0, 1, 2}, {0, 0, -3}, 60.0, 0.1, 100.0);
+            add_texture(scene, Filter::trilinear, wrap);
+            testing::add_triangle(scene, {vertex(-3, 0, 0, offset, offset), vertex(3, 0, 0, offset + 6, offset),
+                                          vertex(3, 0, -20, offset + 6, offset + 40)}, 0);
+            RenderStats stats;
+            frames[k] = render(scene, {}, stats);
+        }
+        float worst = 0.0f;
+        for (std::size_t i = 0; i < frames[0].color.size(); ++i)
+            worst = std::max(worst, glm::length(frames[0].color[i] - frames[1].color[i]));
+        CHECK(worst <= 1e-6f);
+        CHECK(check_frame(frames[0]).drawn > 1000);
+    }
+}
+
+TEST_CASE("stress: degenerate UVs and huge UV gradients stay finite and bounded") {
+    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::bicubic, Filter::trilinear, Filter::anisotropic, Filter::ewa}) {
+        CAPTURE(filter_name(filter));
+        Scene scene = testing::camera_scene(48, 32, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);
+        add_texture(scene, filter);
+        // Collinear, coincident, and a 1e6-texel span over a few pixels.
+        testing::add_triangle(scene, {vertex(-1, -1, -2, 0, 0), vertex(0, -1, -2, 1, 1), vertex(-1, 0, -2, 3, 3)}, 0);
+        testing::add_triangle(scene, {vertex(0, 0, -2, 0.3, 0.7), vertex(1, 0, -2, 0.3, 0.7), vertex(0, 1, -2, 0.3, 0.7)}, 0);
+        testing::add_triangle(scene, {vertex(-1, 0, -3, 0, 0), vertex(-0.5, 0, -3, 1e6, 0), vertex(-1, 0.5, -30, 0, 1e6)}, 0);
+        RenderStats stats;
+        const Framebuffer fb = render(scene, {}, stats);
+        const FrameCheck c = check_frame(fb);
+        CHECK(c.finite);
+        if (filter != Filter::bicubic) CHECK(c.colour_in_unit_range);  // Catmull-Rom may overshoot
+        CHECK(c.drawn > 40);
+        // Anisotropy is clamped at 16: at most 16 trilinear probes (8 texels each), and the
+        // EWA ellipse at most 16 x 1 texels plus its rim, on two levels.
+        CHECK(double(stats.texels_fetched) / double(stats.pixels_shaded) <= 16 * 8);
+    }
+}
+
+TEST_CASE("stress: a million random triangles leave no NaN, nothing outside [0, 1] depth") {
+    std::uint64_t triangles = 0;
+    for (std::uint64_t seed = 0; seed < 50; ++seed) {
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0);
+        Scene scene = testing::camera_scene(40, 30, {0, 0, 0}, {0, 0, -1}, 70.0, 0.01, 1000.0);
+        add_texture(scene, seed % 2 ? Filter::trilinear : Filter::bilinear);
+        Mesh mesh;
+        mesh.has_uv = true;
+        for (int t = 0; t < 20000; ++t) {
+            // Scales from 1e-4 to 1e4 and positions around and behind the camera.
+            const double scale = std::pow(10.0, 4.0 * unit(rng));
+            const glm::dvec3 centre(3 * unit(rng), 3 * unit(rng), -4 * (unit(rng) + 0.9));
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec3 p = centre + scale * glm::dvec3(unit(rng), unit(rng), unit(rng));
+                mesh.vertices.push_back(vertex(p.x, p.y, p.z, 100 * unit(rng), 100 * unit(rng)));
+            }
+            const auto base = std::uint32_t(mesh.vertices.size() - 3);
+            mesh.triangles.push_back({base, base + 1, base + 2});
+            mesh.triangle_material.push_back(0);
+        }
+        scene.meshes.push_back(mesh);
+        scene.objects.push_back(Object{0, glm::dmat4(1.0), false});
+        RenderStats stats;
+        RenderOptions options;
+        options.threads = 2;
+        const Framebuffer fb = render(scene, options, stats);
+        const FrameCheck c = check_frame(fb);
+        REQUIRE(c.finite);
+        REQUIRE(c.depth_in_range);
+        REQUIRE(c.colour_in_unit_range);
+        REQUIRE(stats.triangles_in == 20000);
+        triangles += stats.triangles_in;
+    }
+    CHECK(triangles == 1000000);
+}
+
+namespace {
+
+// A closed, convex ellipsoid: rings of quads and a fan at each pole, outward winding.
+Mesh ellipsoid(int rings, int segments) {
+    Mesh m;
+    m.vertices.push_back(vertex(0, 1, 0));   // north pole
+    m.vertices.push_back(vertex(0, -1, 0));  // south pole
+    for (int r = 1; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
+            m.vertices.push_back(vertex(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)));
+        }
+    auto at = [&](int r, int s) { return std::uint32_t(2 + (r - 1) * segments + (s % segments)); };
+    for (int s = 0; s < segments; ++s) {
+        m.triangles.push_back({0, at(1, s), at(1, s + 1)});
+        m.triangles.push_back({1, at(rings - 1, s + 1), at(rings - 1, s)});
+        for (int r = 1; r + 1 < rings; ++r) {
+            m.triangles.push_back({at(r, s), at(r + 1, s), at(r + 1, s + 1)});
+            m.triangles.push_back({at(r, s), at(r + 1, s + 1), at(r, s + 1)});
+        }
+    }
+    m.triangle_material.assign(m.triangles.size(), 0);
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("stress: a closed mesh covers every covered pixel exactly once (front faces) and twice (all faces)") {
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (int trial = 0; trial < 40; ++trial) {
+        Scene scene = testing::camera_scene(80, 60, {0, 0, 0}, {0, 0, -1}, 60.0, 0.1, 100.0);
+        scene.materials.push_back(Material{});
+        scene.meshes.push_back(ellipsoid(7 + trial % 13, 5 + trial % 17));
+        Object o;
+        o.mesh = 0;
+        o.transform = glm::translate(glm::dmat4(1.0), glm::dvec3(unit(rng), unit(rng), -4.0 + unit(rng))) *
+                      glm::rotate(glm::dmat4(1.0), 3.0 * unit(rng), glm::normalize(glm::dvec3(unit(rng), unit(rng), 1.0))) *
+                      glm::scale(glm::dmat4(1.0), glm::dvec3(1.0 + 0.5 * unit(rng), 1.0 + 0.5 * unit(rng), 1.0 + 0.5 * unit(rng)));
+        RenderOptions options;
+        options.count_coverage = true;
+        RenderStats stats;
+        o.cull_back = false;
+        scene.objects = {o};
+        const Framebuffer all = render(scene, options, stats);
+        o.cull_back = true;
+        scene.objects = {o};
+        const Framebuffer front = render(scene, options, stats);
+        int covered = 0;
+        for (std::size_t i = 0; i < all.coverage.size(); ++i) {
+            REQUIRE(front.coverage[i] <= 1);
+            REQUIRE(all.coverage[i] == 2 * front.coverage[i]);
+            covered += front.coverage[i];
+        }
+        CHECK(covered > 100);
+    }
+}
