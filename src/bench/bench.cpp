@@ -12,6 +12,7 @@
 
 #include "texr/bench/metrics.h"
 #include "texr/bench/plot.h"
+#include "texr/raster/span_modes.h"
 #include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
 #include "texr/render/renderer.h"
@@ -33,6 +34,8 @@ const char* bench_help =
     "  filters     every texture filter on a receding plane and a grazing-angle square:\n"
     "              median frame time, covered Mpixel/s, PSNR and SSIM against a\n"
     "              supersampled ground truth\n"
+    "  spans       every span mode (exact, incremental, affine8/16/32, affine, adaptive)\n"
+    "              on the same scenes: median frame time, max and mean texel error\n"
     "\n"
     "options:\n"
     "  --size WxH      frame size (default 1024x768)\n"
@@ -182,6 +185,89 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
                     scatter_svg({"texr bench filters: run time against error", "median frame time, ms", "PSNR, dB", true}, points));
 }
 
+// --- texr bench spans ----------------------------------------------------------------------
+struct SpanRow {
+    std::string scene, mode;
+    int width, height, threads;
+    double frame_ms, max_error, mean_error, covered_pixels;
+};
+
+std::vector<SpanRow> bench_spans(const BenchOptions& o) {
+    std::vector<SpanRow> rows;
+    for (const std::string name : {"plane", "grazing"}) {
+        Scene scene = load_scene(o.models + "/bench/" + name + ".scene");
+        for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;  // the span cost, not a filter's, dominates
+        const double texture_w = scene.textures.at(0).mipmap->base().width();
+        const double texture_h = scene.textures.at(0).mipmap->base().height();
+        RenderOptions options;
+        options.width = o.width, options.height = o.height, options.threads = o.threads;
+        // The reference: exact mode, every pixel's (u, v) = u'/q from the plane equations in
+        // double precision, nothing accumulated.
+        options.capture_uv = true;
+        options.span_mode = SpanMode::exact;
+        RenderStats reference_stats;
+        const Framebuffer reference = render(scene, options, reference_stats);
+        std::fprintf(stderr, "bench spans: %s\n", name.c_str());
+        for (int m = 0; m < span_mode_count; ++m) {
+            options.span_mode = SpanMode(m);
+            options.capture_uv = true;
+            RenderStats stats;
+            const Framebuffer captured = render(scene, options, stats);
+            double max_error = 0.0, sum = 0.0;
+            std::size_t count = 0;
+            for (std::size_t i = 0; i < captured.uv.size(); ++i) {
+                if (!reference.drawn(i)) continue;
+                const glm::dvec2 a = captured.uv[i], b = reference.uv[i];
+                const double e = std::max(std::fabs(a.x - b.x) * texture_w, std::fabs(a.y - b.y) * texture_h);
+                max_error = std::max(max_error, e), sum += e, ++count;
+            }
+            options.capture_uv = false;
+            RenderStats warm;
+            render(scene, options, warm);
+            std::vector<double> times;
+            for (int r = 0; r < o.repeat; ++r) {
+                RenderStats timed;
+                const auto start = Clock::now();
+                render(scene, options, timed);
+                times.push_back(ms_since(start));
+            }
+            SpanRow row{name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, median(times), max_error,
+                        count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)};
+            std::fprintf(stderr, "  %-12s %9.2f ms  max %.3g texel  mean %.3g texel\n", row.mode.c_str(), row.frame_ms,
+                         row.max_error, row.mean_error);
+            rows.push_back(row);
+        }
+    }
+    return rows;
+}
+
+void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows) {
+    std::string csv = "scene,width,height,threads,filter,mode,frame_ms_median,max_error_texels,mean_error_texels,covered_pixels\n";
+    std::string md = "| scene | size | threads | filter | span mode | frame ms (median) | max error (texels) | mean error (texels) |\n"
+                     "|---|---|---|---|---|---:|---:|---:|\n";
+    std::vector<PlotPoint> points;
+    for (const SpanRow& r : rows) {
+        const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
+        char errors[96];
+        std::snprintf(errors, sizeof errors, "%.3g,%.3g", r.max_error, r.mean_error);
+        csv += r.scene + "," + std::to_string(r.width) + "," + std::to_string(r.height) + "," + std::to_string(r.threads) +
+               ",bilinear," + r.mode + "," + fixed(r.frame_ms, 3) + "," + errors + "," + fixed(r.covered_pixels, 0) + "\n";
+        char cells[96];
+        std::snprintf(cells, sizeof cells, "%.3g | %.3g", r.max_error, r.mean_error);
+        md += "| " + r.scene + " | " + size + " | " + std::to_string(r.threads) + " | bilinear | " + r.mode + " | " +
+              fixed(r.frame_ms, 2) + " | " + cells + " |\n";
+        points.push_back({r.scene, r.mode, r.frame_ms, std::max(r.max_error, 1e-12)});
+    }
+    md += "\nErrors are against the exact mode (u'/q from the plane equations at every pixel, in double "
+          "precision); the adaptive mode's tolerance is 1/64 texel.\n";
+    write_text_file(o.out + "/spans.csv", csv);
+    write_text_file(o.out + "/spans.md", md);
+    PlotAxes axes{"texr bench spans: run time against texture coordinate error", "median frame time, ms",
+                  "max error, texels", true};
+    axes.log_y = true;
+    write_text_file(o.out + "/spans.svg", scatter_svg(axes, points));
+}
+
 int parse_int(const std::string& text, const std::string& option) {
     std::size_t used = 0;
     int v = 0;
@@ -217,16 +303,19 @@ int run_bench(const std::vector<std::string>& args) {
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
         else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192;
-        else if (a == "filters") names.push_back(a);
+        else if (a == "filters" || a == "spans") names.push_back(a);
         else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
     }
-    if (names.empty()) names = {"filters"};
+    if (names.empty()) names = {"filters", "spans"};
     make_folders(o.out);
     std::string index = "# texr benchmarks\n\n";
     for (const std::string& name : names) {
         if (name == "filters") {
             write_filters_report(o, bench_filters(o));
             index += "- [filters](filters.md): every texture filter, time against error ([csv](filters.csv), [plot](filters.svg))\n";
+        } else if (name == "spans") {
+            write_spans_report(o, bench_spans(o));
+            index += "- [spans](spans.md): span modes, time against texture coordinate error ([csv](spans.csv), [plot](spans.svg))\n";
         }
     }
     write_text_file(o.out + "/index.md", index);

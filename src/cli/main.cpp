@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -47,6 +48,10 @@ const char* render_help =
     "                      same bytes for every N\n"
     "  --spp N             texture ground truth: N x N samples per pixel, each a\n"
     "                      bilinear lookup at its exact (u, v), box-filtered\n"
+    "  --span MODE         how (u, v) are computed along spans: exact, incremental\n"
+    "                      (default), affine8, affine16, affine32, affine (no\n"
+    "                      perspective: wrong, for contrast) or adaptive\n"
+    "  --span-tolerance T  adaptive: largest error in texels (default 0.015625 = 1/64)\n"
     "  --stats             print counters (triangles in / clipped / culled, spans,\n"
     "                      pixels shaded, texels fetched), what each material needs,\n"
     "                      and the time of each stage\n"
@@ -62,6 +67,8 @@ struct RenderArguments {
     std::string scene, output;
     int width = 0, height = 0, repeat = 1, threads = 0, spp = 1;
     bool stats = false;
+    texr::SpanMode span = texr::SpanMode::incremental;
+    double span_tolerance = 1.0 / 64.0;
 };
 
 int parse_positive(const std::string& text, const std::string& option) {
@@ -121,7 +128,17 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
         else if (a == "--repeat") args.repeat = parse_positive(value(), "--repeat");
         else if (a == "--threads") args.threads = parse_positive(value(), "--threads");
         else if (a == "--spp") args.spp = parse_positive(value(), "--spp");
-        else if (a == "--stats") args.stats = true;
+        else if (a == "--span") {
+            const std::string name = value();
+            if (!texr::parse_span_mode(name, args.span))
+                throw UsageError{"unknown span mode '" + name + "' (expected exact, incremental, affine8, affine16, affine32, affine or adaptive)"};
+        } else if (a == "--span-tolerance") {
+            const std::string text = value();
+            char* end = nullptr;
+            args.span_tolerance = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !(args.span_tolerance > 0.0 && args.span_tolerance <= 1000.0))
+                throw UsageError{"--span-tolerance expects a positive number of texels, got '" + text + "'"};
+        } else if (a == "--stats") args.stats = true;
         else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option '" + a + "' for 'texr render'"};
         else if (args.scene.empty()) args.scene = a;
         else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
@@ -172,6 +189,8 @@ int run_render(const std::vector<std::string>& argv) {
     options.height = args.height;
     options.threads = args.threads;
     options.spp = args.spp;
+    options.span_mode = args.span;
+    options.span_tolerance = args.span_tolerance;
     texr::RenderStats stats;
     std::vector<double> frame_ms;
     texr::Framebuffer frame(1, 1, {});

@@ -68,6 +68,10 @@ struct DrawContext {
     const Material& material;
     const Texture* texture;  // null for an untextured material
     int spp;                 // > 1: supersampled texture ground truth
+    SpanMode span_mode;
+    double span_tolerance;
+    double* u_scratch;       // a row's worth of (u, v) for span modes other than incremental
+    double* v_scratch;
 };
 
 // Everything the span walk needs of one screen triangle.
@@ -75,6 +79,7 @@ struct TriangleSetup {
     TriangleEdges edges;
     Plane depth;             // window depth, affine in screen space
     TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
+    Plane u_affine, v_affine;  // SpanMode::affine only
     std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
 };
 
@@ -136,6 +141,20 @@ template <Needs N>
 void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
     constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
     const int x0 = span.x0;
+    // Texture coordinates: stepped here (incremental), or precomputed for the span by
+    // another span mode, which may need no divide per pixel at all.
+    const bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
+    if constexpr ((N & need_uv) != 0)
+        if (!stepped_uv) {
+            SpanTexturing t;
+            t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
+            t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
+            span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
+        }
+    // 1/q per pixel is needed by perspective attributes, derivatives and stepped (u, v).
+    constexpr bool attributes_need_q = (N & (need_uv_derivatives | need_normal | need_color | need_world_position)) != 0;
+    const bool divide = attributes_need_q || stepped_uv;
+
     SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);
     SteppedPlane u_prime, v_prime, q;
     SteppedVector normal{}, color{}, world{};
@@ -147,19 +166,23 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
 
     float* depth_row = &fb.depth[fb.index(0, y)];
     Color* color_row = &fb.color[fb.index(0, y)];
+    glm::dvec2* uv_row = fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
     std::uint64_t shaded = 0, texels = 0;
     for (int x = span.x0; x < span.x1; ++x) {
         if (float(depth.value) < depth_row[x]) {
             depth_row[x] = float(depth.value);
             double inv_q = 1.0;
-            if constexpr (perspective) inv_q = 1.0 / q.value;  // the one divide per pixel
+            if constexpr (perspective)
+                if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
             Color4 texel(1.0f);
             if constexpr ((N & need_uv) != 0) {
-                const double u = u_prime.value * inv_q, v = v_prime.value * inv_q;
+                const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
+                const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
                 UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
                 if constexpr ((N & need_uv_derivatives) != 0) derivatives = uv_derivatives(s.h, u, v, q.value);
                 texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
                                   : lookup(*d.texture, u, v, derivatives, texels);
+                if (uv_row) uv_row[x] = {u, v};
             }
             color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
             ++shaded;
@@ -250,10 +273,11 @@ std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, co
 // One worker's share of the frame: every triangle, but only the rows it owns.
 class FrameRenderer {
 public:
-    FrameRenderer(const Scene& scene, const std::vector<Needs>& needs, int spp, const RowSet& rows, Framebuffer& fb,
-                  RenderStats& stats)
-        : scene_(scene), fb_(fb), stats_(stats), width_(fb.width), height_(fb.height), spp_(spp),
-          band_(guard_band_for(fb.width, fb.height)), needs_(needs), rows_(rows) {}
+    FrameRenderer(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, const RowSet& rows,
+                  Framebuffer& fb, RenderStats& stats)
+        : scene_(scene), fb_(fb), stats_(stats), width_(fb.width), height_(fb.height), options_(options),
+          band_(guard_band_for(fb.width, fb.height)), needs_(needs), rows_(rows),
+          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {}
 
     void draw(const Object& object, const TransformedMesh& vertices) {
         const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
@@ -278,7 +302,8 @@ private:
                             scene_.materials[std::size_t(material)].texture >= 0
                                 ? &scene_.textures[std::size_t(scene_.materials[std::size_t(material)].texture)]
                                 : nullptr,
-                            spp_};
+                            std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,
+                            u_scratch_.data(), v_scratch_.data()};
         const Needs needs = needs_[std::size_t(material)];
         // The clipped polygon is convex: a fan from its first vertex.
         for (int i = 1; i + 1 < polygon_.count; ++i)
@@ -322,6 +347,10 @@ private:
             rebase(v, d.texture->sampler.wrap_v);
             s.h.u_prime = over_w_plane(lambda, u, inv_w);
             s.h.v_prime = over_w_plane(lambda, v, inv_w);
+            if (d.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w
+                s.u_affine = over_w_plane(lambda, u, {1.0, 1.0, 1.0});
+                s.v_affine = over_w_plane(lambda, v, {1.0, 1.0, 1.0});
+            }
         }
         for (int axis = 0; axis < 3; ++axis) {
             if (needs & need_normal)
@@ -356,12 +385,14 @@ private:
     const Scene& scene_;
     Framebuffer& fb_;
     RenderStats& stats_;
-    int width_, height_, spp_;
+    int width_, height_;
+    const RenderOptions& options_;
     GuardBand band_;
     const std::vector<Needs>& needs_;
     RowSet rows_;
     const TransformedMesh* v_ = nullptr;
     ClipPolygon polygon_;
+    std::vector<double> u_scratch_, v_scratch_;
 };
 
 }  // namespace
@@ -376,6 +407,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     const int height = options.height > 0 ? options.height : scene.height;
     Framebuffer fb(width, height, scene.background);
     if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
+    if (options.capture_uv) fb.uv.assign(fb.color.size(), glm::dvec2(std::nan("")));
     std::vector<Needs> needs;
     for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
 
@@ -397,7 +429,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     std::vector<RenderStats> worker_stats(static_cast<std::size_t>(workers));
     RenderStats triangle_counters;
     auto work = [&](int index) {
-        FrameRenderer frame(scene, needs, std::max(1, options.spp), RowSet{index, workers}, fb, worker_stats[std::size_t(index)]);
+        FrameRenderer frame(scene, needs, options, RowSet{index, workers}, fb, worker_stats[std::size_t(index)]);
         for (std::size_t i = 0; i < scene.objects.size(); ++i) frame.draw(scene.objects[i], transformed[i]);
         if (index == 0) triangle_counters = frame.triangle_counters_;
     };

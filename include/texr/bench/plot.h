@@ -14,6 +14,7 @@ struct PlotPoint {
 struct PlotAxes {
     std::string title, x_label, y_label;
     bool log_x = true;
+    bool log_y = false;
 };
 
 std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& points);

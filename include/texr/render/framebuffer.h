@@ -4,6 +4,8 @@
 #include <limits>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "texr/core/color.h"
 
 namespace texr {
@@ -19,6 +21,9 @@ struct Framebuffer {
     // Test instrumentation, empty unless sized by the caller: how many triangles covered
     // each pixel (counted before the depth test).
     std::vector<std::uint16_t> coverage;
+    // Benchmark instrumentation, empty unless sized by the caller: the (u, v) each visible
+    // pixel was textured with.
+    std::vector<glm::dvec2> uv;
 
     Framebuffer(int w, int h, Color background)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h), background),

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "texr/raster/span_modes.h"
 #include "texr/render/framebuffer.h"
 #include "texr/render/stats.h"
 #include "texr/scene/scene.h"
@@ -16,7 +17,12 @@ struct RenderOptions {
     int spp = 1;
     // Worker threads; 0 = one per core. The frame is the same bytes for every count.
     int threads = 0;
+    // How (u, v) are computed along spans (raster/span_modes.h) and, for `adaptive`, the
+    // largest error allowed in texels.
+    SpanMode span_mode = SpanMode::incremental;
+    double span_tolerance = 1.0 / 64.0;
     bool count_coverage = false;  // fill Framebuffer::coverage (tests)
+    bool capture_uv = false;      // fill Framebuffer::uv with each visible pixel's (u, v) (benchmarks)
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);

@@ -1,0 +1,41 @@
+// Ways to compute (u, v) along a span, from exact to plainly wrong, for trading run time
+// against error (texr bench spans):
+//   exact        u = u'(x) / q(x) from the plane equations at every pixel (a divide each)
+//   incremental  the lecture's stepping: u' += du'/dx, q += dq/dx, a divide each
+//   affine8/16/32  exact at every 8th/16th/32nd pixel and at the span's end, linear in
+//                between: one divide per sub-span (the classic perspective texture mapper)
+//   affine       no perspective at all: u interpolated linearly in screen space over the
+//                triangle. Wrong; kept for contrast
+//   adaptive     sub-spans as long as the error bound below allows, at most `tolerance`
+//                texels (default 1/64)
+// The adaptive bound: along a row u(x) = u'(x)/q(x) with u' and q linear in x, so
+//   u'' = -2 (dq/dx) K / q^3,   K = (du'/dx) q - u' (dq/dx),
+// and K is constant along the row (its x derivative cancels). Linear interpolation between exact values L pixels apart
+// errs by at most L^2 / 8 * max|u''|, and max|u''| is at the sub-span's end with the
+// smaller q. Measured in texels (u times the texture width, v times its height), L is
+// chosen so that bound stays <= tolerance.
+#pragma once
+#include <string>
+
+#include "texr/raster/homography.h"
+
+namespace texr {
+
+enum class SpanMode { exact, incremental, affine8, affine16, affine32, affine, adaptive };
+constexpr int span_mode_count = 7;
+
+const char* span_mode_name(SpanMode mode);
+bool parse_span_mode(const std::string& name, SpanMode& out);
+
+struct SpanTexturing {
+    const TextureHomography* h = nullptr;
+    Plane u_affine, v_affine;  // for SpanMode::affine only: u, v linear in screen space
+    double width = 1, height = 1;    // texture size in texels, to measure error in texels
+    double tolerance = 1.0 / 64.0;   // adaptive: the largest error allowed, in texels
+};
+
+// Texture coordinates of pixels x0 .. x0 + n - 1 of row y (sampled at pixel centres) into
+// u[0..n) and v[0..n). Returns the number of divisions it made.
+int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v);
+
+}  // namespace texr

@@ -1,0 +1,123 @@
+// Span texture coordinate modes (see include/texr/raster/span_modes.h).
+#include "texr/raster/span_modes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "texr/raster/span_walk.h"
+
+namespace texr {
+
+namespace {
+
+const char* const names[span_mode_count] = {"exact", "incremental", "affine8", "affine16", "affine32", "affine", "adaptive"};
+
+// Exact (u, v) at the centre of pixel x of the row whose centre is yc.
+inline void exact_at(const TextureHomography& h, double x, double yc, double& u, double& v) {
+    const double inv_q = 1.0 / h.q.at(x + 0.5, yc);
+    u = h.u_prime.at(x + 0.5, yc) * inv_q;
+    v = h.v_prime.at(x + 0.5, yc) * inv_q;
+}
+
+// Fills pixels [a, b] (b > a) linearly between exact values at a and b; u[a], v[a] given.
+inline void linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v) {
+    exact_at(h, double(b), yc, u[b - x0], v[b - x0]);
+    const double inv_length = 1.0 / double(b - a);
+    const double du = (u[b - x0] - u[a - x0]) * inv_length, dv = (v[b - x0] - v[a - x0]) * inv_length;
+    for (int x = a + 1; x < b; ++x) {
+        u[x - x0] = u[a - x0] + du * (x - a);
+        v[x - x0] = v[a - x0] + dv * (x - a);
+    }
+}
+
+int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double* u, double* v) {
+    const double yc = y + 0.5;
+    exact_at(*t.h, x0, yc, u[0], v[0]);
+    int divides = 1;
+    const int last = x0 + n - 1;
+    for (int a = x0; a < last;) {
+        const int b = std::min(a + length, last);
+        linear_between(*t.h, yc, x0, a, b, u, v);
+        ++divides;
+        a = b;
+    }
+    return divides;
+}
+
+int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
+    const TextureHomography& h = *t.h;
+    const double yc = y + 0.5;
+    exact_at(h, x0, yc, u[0], v[0]);
+    int divides = 1;
+    const int last = x0 + n - 1;
+    // K = (du'/dx) q - u' (dq/dx): constant along the row.
+    const double q0 = h.q.at(x0 + 0.5, yc);
+    const double k_u = h.u_prime.dx * q0 - h.u_prime.at(x0 + 0.5, yc) * h.q.dx;
+    const double k_v = h.v_prime.dx * q0 - h.v_prime.at(x0 + 0.5, yc) * h.q.dx;
+    // max |u''| in texels = curvature / q^3.
+    const double curvature = 2.0 * std::fabs(h.q.dx) * std::max(std::fabs(k_u) * t.width, std::fabs(k_v) * t.height);
+    for (int a = x0; a < last;) {
+        int length = last - a;
+        if (curvature > 0.0) {
+            for (int attempt = 0; attempt < 4; ++attempt) {
+                const double q_min = std::min(h.q.at(a + 0.5, yc), h.q.at(a + length + 0.5, yc));
+                const double bound = double(length) * length / 8.0 * curvature / (q_min * q_min * q_min);
+                if (bound <= t.tolerance) break;
+                // The longest L with L^2 / 8 * curvature / q_min^3 <= tolerance; q_min only
+                // grows as L shrinks, so the new bound is below the tolerance too.
+                const double fit = std::sqrt(8.0 * t.tolerance * q_min * q_min * q_min / curvature);
+                length = std::max(1, std::min(length - 1, int(fit)));
+            }
+        }
+        const int b = a + length;
+        linear_between(h, yc, x0, a, b, u, v);
+        ++divides;
+        a = b;
+    }
+    return divides;
+}
+
+}  // namespace
+
+const char* span_mode_name(SpanMode mode) { return names[int(mode)]; }
+
+bool parse_span_mode(const std::string& name, SpanMode& out) {
+    for (int i = 0; i < span_mode_count; ++i)
+        if (name == names[i]) {
+            out = SpanMode(i);
+            return true;
+        }
+    return false;
+}
+
+int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
+    const TextureHomography& h = *t.h;
+    const double yc = y + 0.5;
+    switch (mode) {
+        case SpanMode::exact:
+            for (int k = 0; k < n; ++k) exact_at(h, x0 + k, yc, u[k], v[k]);
+            return n;
+        case SpanMode::incremental: {
+            SteppedPlane up = SteppedPlane::start(h.u_prime, x0, y), vp = SteppedPlane::start(h.v_prime, x0, y),
+                         q = SteppedPlane::start(h.q, x0, y);
+            for (int k = 0; k < n; ++k) {
+                const double inv_q = 1.0 / q.value;
+                u[k] = up.value * inv_q, v[k] = vp.value * inv_q;
+                up.advance(), vp.advance(), q.advance();
+            }
+            return n;
+        }
+        case SpanMode::affine8: return subdivided(t, 8, y, x0, n, u, v);
+        case SpanMode::affine16: return subdivided(t, 16, y, x0, n, u, v);
+        case SpanMode::affine32: return subdivided(t, 32, y, x0, n, u, v);
+        case SpanMode::affine: {
+            SteppedPlane au = SteppedPlane::start(t.u_affine, x0, y), av = SteppedPlane::start(t.v_affine, x0, y);
+            for (int k = 0; k < n; ++k) u[k] = au.value, v[k] = av.value, au.advance(), av.advance();
+            return 0;
+        }
+        case SpanMode::adaptive: return adaptive(t, y, x0, n, u, v);
+    }
+    return 0;
+}
+
+}  // namespace texr
