@@ -2,6 +2,7 @@
 #include "texr/texture/mipmap.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -34,71 +35,76 @@ std::vector<Footprint> footprints(int n, int m) {
 
 }  // namespace
 
-// A level kept in linear float while the pyramid is built, so rounding to 8 bits happens
-// once per level and never accumulates down the chain.
-struct LinearLevel {
-    int width = 0, height = 0;
-    std::vector<Color4> texels;
-};
-
 namespace {
 
-LinearLevel to_linear(const Image& image) {
-    LinearLevel l{image.width(), image.height(), {}};
-    l.texels.reserve(std::size_t(l.width) * std::size_t(l.height));
-    for (int j = 0; j < l.height; ++j)
-        for (int i = 0; i < l.width; ++i) l.texels.push_back(image.texel(i, j));
-    return l;
-}
+// Streams one level from `source`, a row at a time: each output row is the weighted sum of
+// the (two or three) source rows under its footprint, each of those first reduced along x.
+// Only a few rows are held in float, so building the pyramid of an 8192^2 texture needs
+// no more memory than the levels themselves.
+class RowReducer {
+public:
+    RowReducer(const Image& source, const std::vector<Footprint>& fx) : source_(source), fx_(fx) {}
 
-LinearLevel downsample_linear(const LinearLevel& source) {
-    const int w = source.width, h = source.height;
-    const int mw = std::max(1, w / 2), mh = std::max(1, h / 2);
-    const auto fx = footprints(w, mw), fy = footprints(h, mh);
-    // Separable: rows first (w -> mw), then columns (h -> mh).
-    std::vector<Color4> rows(std::size_t(mw) * std::size_t(h));
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < mw; ++i) {
-            Color4 sum(0.0f);
-            const Footprint& f = fx[std::size_t(i)];
-            for (std::size_t k = 0; k < f.weights.size(); ++k)
-                sum += f.weights[k] * source.texels[std::size_t(j) * std::size_t(w) + std::size_t(f.first) + k];
-            rows[std::size_t(j) * std::size_t(mw) + std::size_t(i)] = sum;
+    // Source row r reduced along x (cached: neighbouring output rows share source rows).
+    const std::vector<Color4>& row(int r) {
+        for (Cached& c : cache_)
+            if (c.index == r) return c.texels;
+        Cached& slot = cache_[next_++ % cache_.size()];
+        slot.index = r;
+        slot.texels.assign(fx_.size(), Color4(0.0f));
+        for (std::size_t i = 0; i < fx_.size(); ++i) {
+            const Footprint& f = fx_[i];
+            for (std::size_t k = 0; k < f.weights.size(); ++k) slot.texels[i] += f.weights[k] * source_.texel(f.first + int(k), r);
         }
-    LinearLevel out{mw, mh, std::vector<Color4>(std::size_t(mw) * std::size_t(mh))};
-    for (int j = 0; j < mh; ++j)
-        for (int i = 0; i < mw; ++i) {
-            Color4 sum(0.0f);
-            const Footprint& f = fy[std::size_t(j)];
-            for (std::size_t k = 0; k < f.weights.size(); ++k)
-                sum += f.weights[k] * rows[(std::size_t(f.first) + k) * std::size_t(mw) + std::size_t(i)];
-            out.texels[std::size_t(j) * std::size_t(mw) + std::size_t(i)] = sum;
-        }
-    return out;
-}
+        return slot.texels;
+    }
 
-// Stores a level like `like`: float for HDR, else 8-bit (sRGB-encoded for colour images).
-Image encode_like(const LinearLevel& level, const Image& like) {
-    if (like.is_hdr()) {
-        std::vector<float> texels(level.texels.size() * 4);
-        for (std::size_t p = 0; p < level.texels.size(); ++p)
-            for (int c = 0; c < 4; ++c) texels[4 * p + std::size_t(c)] = level.texels[p][c];
-        return Image::hdr(level.width, level.height, std::move(texels));
-    }
-    const auto to_byte = [](float linear) { return std::uint8_t(std::lround(std::clamp(linear, 0.0f, 1.0f) * 255.0f)); };
-    std::vector<std::uint8_t> texels(level.texels.size() * 4);
-    const bool srgb = like.color_space() == ColorSpace::srgb;
-    for (std::size_t p = 0; p < level.texels.size(); ++p) {
-        for (int c = 0; c < 3; ++c)
-            texels[4 * p + std::size_t(c)] = srgb ? linear_to_srgb8(level.texels[p][c]) : to_byte(level.texels[p][c]);
-        texels[4 * p + 3] = to_byte(level.texels[p][3]);  // alpha is linear
-    }
-    return Image::ldr(level.width, level.height, like.color_space(), std::move(texels));
-}
+private:
+    struct Cached {
+        int index = -1;
+        std::vector<Color4> texels;
+    };
+    const Image& source_;
+    const std::vector<Footprint>& fx_;
+    std::array<Cached, 4> cache_;
+    std::size_t next_ = 0;
+};
+
+std::uint8_t to_unorm8(float linear) { return std::uint8_t(std::lround(std::clamp(linear, 0.0f, 1.0f) * 255.0f)); }
 
 }  // namespace
 
-Image downsample(const Image& source) { return encode_like(downsample_linear(to_linear(source)), source); }
+Image downsample(const Image& source) {
+    const int w = source.width(), h = source.height();
+    const int mw = std::max(1, w / 2), mh = std::max(1, h / 2);
+    const auto fx = footprints(w, mw), fy = footprints(h, mh);
+    RowReducer reducer(source, fx);
+    const std::size_t count = std::size_t(mw) * std::size_t(mh);
+    std::vector<float> hdr(source.is_hdr() ? count * 4 : 0);
+    std::vector<std::uint8_t> ldr(source.is_hdr() ? 0 : count * 4);
+    const bool srgb = source.color_space() == ColorSpace::srgb;
+    std::vector<Color4> out_row(static_cast<std::size_t>(mw));
+    for (int j = 0; j < mh; ++j) {
+        std::fill(out_row.begin(), out_row.end(), Color4(0.0f));
+        const Footprint& f = fy[std::size_t(j)];
+        for (std::size_t k = 0; k < f.weights.size(); ++k) {
+            const std::vector<Color4>& r = reducer.row(f.first + int(k));
+            for (int i = 0; i < mw; ++i) out_row[std::size_t(i)] += f.weights[k] * r[std::size_t(i)];
+        }
+        for (int i = 0; i < mw; ++i) {
+            const std::size_t p = 4 * (std::size_t(j) * std::size_t(mw) + std::size_t(i));
+            const Color4& c = out_row[std::size_t(i)];
+            if (source.is_hdr()) {
+                for (int ch = 0; ch < 4; ++ch) hdr[p + std::size_t(ch)] = c[ch];
+                continue;
+            }
+            for (int ch = 0; ch < 3; ++ch) ldr[p + std::size_t(ch)] = srgb ? linear_to_srgb8(c[ch]) : to_unorm8(c[ch]);
+            ldr[p + 3] = to_unorm8(c[3]);  // alpha is linear
+        }
+    }
+    if (source.is_hdr()) return Image::hdr(mw, mh, std::move(hdr));
+    return Image::ldr(mw, mh, source.color_space(), std::move(ldr));
+}
 
 int MipMap::level_count() const {
     int levels = 1;
@@ -112,11 +118,7 @@ void MipMap::build() const {
         const auto start = std::chrono::steady_clock::now();
         const int count = level_count();
         levels_.reserve(std::size_t(count - 1));
-        LinearLevel level = to_linear(*base_);
-        for (int l = 1; l < count; ++l) {
-            level = downsample_linear(level);
-            levels_.push_back(encode_like(level, *base_));
-        }
+        for (int l = 1; l < count; ++l) levels_.push_back(downsample(l == 1 ? *base_ : levels_.back()));
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         built_flag_.store(true);
     });

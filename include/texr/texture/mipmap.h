@@ -7,8 +7,10 @@
 // ends, so no texel is dropped and every level keeps the base image's mean. The box is the
 // filter that preserves the mean exactly and never overshoots; its mild aliasing is what
 // trilinear and anisotropic filtering sample between anyway.
-// Averaging happens in linear space; LDR levels are stored again as 8-bit (sRGB-encoded
-// for colour images), HDR levels as float.
+// Averaging happens in linear space: each level is built from the one above it, its texels
+// decoded to linear float, averaged, and stored again as 8-bit (sRGB-encoded for colour
+// images; so each level adds at most half a step of rounding) or, for HDR, as float. The
+// build streams a few rows at a time: it needs no memory beyond the levels themselves.
 // Levels are built on first use, only for textures that are minified; building is
 // thread-safe.
 #pragma once
