@@ -28,6 +28,7 @@ Image Image::hdr(int width, int height, std::vector<float> rgba) {
     image.height_ = height;
     image.space_ = ColorSpace::linear;  // Radiance files hold linear radiance
     image.texels_f_ = std::move(rgba);
+    image.hdr_ = true;
     image.inv_width_ = 1.0 / width, image.inv_height_ = 1.0 / height;
     return image;
 }

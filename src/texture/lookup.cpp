@@ -7,7 +7,7 @@
 
 namespace texr {
 
-Color4 lookup(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
+Color4 lookup_footprint(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
     const Sampler& s = t.sampler;
     const MipMap& mip = *t.mipmap;
     switch (s.filter) {

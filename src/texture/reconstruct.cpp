@@ -17,73 +17,7 @@ inline double lattice(Registration registration, Wrap wrap, double t, int n, dou
     return reduce_lattice(wrap, x, n, inv_n);
 }
 
-inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
-    return (i < 0 || j < 0) ? sampler.border : image.texel(i, j);
-}
-
 }  // namespace
-
-Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
-    return texel_or_border(image, sampler, wrap_index(sampler.wrap_u, i, image.width()),
-                           wrap_index(sampler.wrap_v, j, image.height()));
-}
-
-namespace {
-
-// The texel nearest to t along one axis, wrapped (-1: border).
-inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
-    double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
-    if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
-    const int l = int(fast_floor(x));
-    // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
-    if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
-    if (wrap == Wrap::repeat && l < n) return l;  // reduced into [0, n) already
-    return wrap_index(wrap, l, n);
-}
-
-}  // namespace
-
-Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
-    const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
-    const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
-    return texel_or_border(image, sampler, i, j);
-}
-
-namespace {
-
-// The two lattice neighbours of a coordinate along one axis, wrapped, and the fraction
-// between them.
-struct AxisTaps {
-    int i0, i1;  // -1: border
-    float f;
-};
-
-inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
-    double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
-    if (wrap == Wrap::repeat) {
-        // Fast path: reduce into [0, n) once; the right neighbour of n - 1 is 0.
-        if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
-        const int i0 = std::min(int(x), n - 1);  // x >= 0: truncation is floor
-        return {i0, i0 + 1 < n ? i0 + 1 : 0, float(x - i0)};
-    }
-    x = reduce_lattice(wrap, x, n, inv_n);
-    const double x0 = fast_floor(x);
-    const int i = int(x0);
-    return {wrap_index(wrap, i, n), wrap_index(wrap, i + 1, n), float(x - x0)};
-}
-
-}  // namespace
-
-Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
-    const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
-    const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
-    // Successive linear interpolations: along v in columns i0 and i1, then along u.
-    const Color4 column0 = texel_or_border(image, sampler, a.i0, b.i0) +
-                           b.f * (texel_or_border(image, sampler, a.i0, b.i1) - texel_or_border(image, sampler, a.i0, b.i0));
-    const Color4 column1 = texel_or_border(image, sampler, a.i1, b.i0) +
-                           b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
-    return column0 + a.f * (column1 - column0);
-}
 
 float mitchell_netravali(float x, float b, float c) {
     x = std::fabs(x);
@@ -113,12 +47,12 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
     Color4 sum(0.0f);
     for (int b = 0; b < 4; ++b) {
         Color4 row(0.0f);
-        for (int a = 0; a < 4; ++a) row += wu[a] * texel_or_border(image, sampler, iu[a], iv[b]);
+        for (int a = 0; a < 4; ++a) row += wu[a] * reconstruct_detail::texel_or_border(image, sampler, iu[a], iv[b]);
         sum += wv[b] * row;
     }
     if (sampler.clamp_overshoot) {
-        const Color4 t00 = texel_or_border(image, sampler, iu[1], iv[1]), t10 = texel_or_border(image, sampler, iu[2], iv[1]);
-        const Color4 t01 = texel_or_border(image, sampler, iu[1], iv[2]), t11 = texel_or_border(image, sampler, iu[2], iv[2]);
+        const Color4 t00 = reconstruct_detail::texel_or_border(image, sampler, iu[1], iv[1]), t10 = reconstruct_detail::texel_or_border(image, sampler, iu[2], iv[1]);
+        const Color4 t01 = reconstruct_detail::texel_or_border(image, sampler, iu[1], iv[2]), t11 = reconstruct_detail::texel_or_border(image, sampler, iu[2], iv[2]);
         sum = glm::clamp(sum, glm::min(glm::min(t00, t10), glm::min(t01, t11)), glm::max(glm::max(t00, t10), glm::max(t01, t11)));
     }
     return sum;

@@ -23,15 +23,14 @@ public:
     int height() const { return height_; }
     double inv_width() const { return inv_width_; }
     double inv_height() const { return inv_height_; }
-    bool is_hdr() const { return !texels_f_.empty(); }
+    bool is_hdr() const { return hdr_; }
     ColorSpace color_space() const { return space_; }
     std::size_t bytes() const { return texels_8_.size() + texels_f_.size() * sizeof(float); }
 
     // Linear RGBA of texel (i, j); i in [0, width), j in [0, height).
     Color4 texel(int i, int j) const {
         const std::size_t k = (std::size_t(j) * std::size_t(width_) + std::size_t(i)) * 4;
-        if (!texels_f_.empty())
-            return {texels_f_[k], texels_f_[k + 1], texels_f_[k + 2], texels_f_[k + 3]};
+        if (hdr_) return {texels_f_[k], texels_f_[k + 1], texels_f_[k + 2], texels_f_[k + 3]};
         const std::uint8_t* t = &texels_8_[k];
         return {decode_[t[0]], decode_[t[1]], decode_[t[2]], t[3] * (1.0f / 255.0f)};
     }
@@ -40,6 +39,7 @@ private:
     int width_ = 0, height_ = 0;
     double inv_width_ = 0.0, inv_height_ = 0.0;
     ColorSpace space_ = ColorSpace::srgb;
+    bool hdr_ = false;
     std::vector<std::uint8_t> texels_8_;
     std::vector<float> texels_f_;
     const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255

@@ -5,11 +5,21 @@
 
 #include "texr/raster/homography.h"
 #include "texr/scene/scene.h"
+#include "texr/texture/reconstruct.h"
 
 namespace texr {
 
+// The filters with a footprint (out of line; they read many texels anyway).
+Color4 lookup_footprint(const Texture& texture, double u, double v, const UVDerivatives& d, std::uint64_t& texels);
+
 // (u, v) and their exact screen derivatives (ignored by filters without a footprint).
-// Adds the number of texels read to `texels`.
-Color4 lookup(const Texture& texture, double u, double v, const UVDerivatives& d, std::uint64_t& texels);
+// Adds the number of texels read to `texels`. Nearest and bilinear are compiled in place.
+inline Color4 lookup(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
+    switch (t.sampler.filter) {
+        case Filter::nearest: texels += 1; return sample_nearest(*t.image, t.sampler, u, v);
+        case Filter::bilinear: texels += 4; return sample_bilinear(*t.image, t.sampler, u, v);
+        default: return lookup_footprint(t, u, v, d, texels);
+    }
+}
 
 }  // namespace texr

@@ -3,6 +3,7 @@
 // Each works on one image (a mip level) and a texture coordinate; wrap and registration come
 // from the sampler. `texels` counts the texels read (for --stats).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 
 #include "texr/texture/image.h"
@@ -12,16 +13,16 @@ namespace texr {
 
 // Texel (i, j) after wrapping each index by the sampler's mode; border texels give the
 // sampler's border colour.
-Color4 fetch(const Image& image, const Sampler& sampler, int i, int j);
+Color4 fetch(const Image& image, const Sampler& sampler, int i, int j);  // defined below
 
 // Nearest neighbour. Cell registration: l = min(floor(u * n), n - 1) (the slide);
 // node registration: l = floor(u * (n - 1) + 1/2).
-Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v);
+Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v);  // defined below
 
 // Bilinear, as the slide's successive linear interpolations: first along v in the two
 // columns floor(x) and floor(x) + 1, then along u. Lattice coordinate x = u * n - 1/2
 // (cell) or x = u * (n - 1) (node).
-Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v);
+Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v);  // defined below
 
 // The Mitchell-Netravali cubic k(x) with parameters B, C (Mitchell & Netravali 1988):
 //   |x| < 1:      ((12 - 9B - 6C)|x|^3 + (-18 + 12B + 6C)|x|^2 + (6 - 2B)) / 6
@@ -33,5 +34,80 @@ float mitchell_netravali(float x, float b, float c);
 // Bicubic: 4x4 texels around the lattice coordinate, weighted by k in u and in v.
 // With sampler.clamp_overshoot the result is clamped to the range of the 2x2 nearest texels.
 Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, double v);
+
+// --- Definitions of the filters above that run per pixel: inline, so the span loop
+// compiles them in place ------------------------------------------------------------------
+namespace reconstruct_detail {
+
+inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
+    return (i < 0 || j < 0) ? sampler.border : image.texel(i, j);
+}
+
+}  // namespace reconstruct_detail
+
+inline Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
+    return reconstruct_detail::texel_or_border(image, sampler, wrap_index(sampler.wrap_u, i, image.width()),
+                           wrap_index(sampler.wrap_v, j, image.height()));
+}
+
+namespace reconstruct_detail {
+
+// The texel nearest to t along one axis, wrapped (-1: border).
+inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+    double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
+    if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
+    const int l = int(fast_floor(x));
+    // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
+    if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
+    if (wrap == Wrap::repeat && l < n) return l;  // reduced into [0, n) already
+    return wrap_index(wrap, l, n);
+}
+
+}  // namespace reconstruct_detail
+
+inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
+    using namespace reconstruct_detail;
+    const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
+    const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
+    return texel_or_border(image, sampler, i, j);
+}
+
+namespace reconstruct_detail {
+
+// The two lattice neighbours of a coordinate along one axis, wrapped, and the fraction
+// between them.
+struct AxisTaps {
+    int i0, i1;  // -1: border
+    float f;
+};
+
+inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+    double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
+    if (wrap == Wrap::repeat) {
+        // Fast path: reduce into [0, n) once; the right neighbour of n - 1 is 0.
+        if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
+        const int i0 = std::min(int(x), n - 1);  // x >= 0: truncation is floor
+        return {i0, i0 + 1 < n ? i0 + 1 : 0, float(x - i0)};
+    }
+    x = reduce_lattice(wrap, x, n, inv_n);
+    const double x0 = fast_floor(x);
+    const int i = int(x0);
+    return {wrap_index(wrap, i, n), wrap_index(wrap, i + 1, n), float(x - x0)};
+}
+
+}  // namespace reconstruct_detail
+
+inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
+    using namespace reconstruct_detail;
+    const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
+    const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
+    // Successive linear interpolations: along v in columns i0 and i1, then along u.
+    const Color4 column0 = texel_or_border(image, sampler, a.i0, b.i0) +
+                           b.f * (texel_or_border(image, sampler, a.i0, b.i1) - texel_or_border(image, sampler, a.i0, b.i0));
+    const Color4 column1 = texel_or_border(image, sampler, a.i1, b.i0) +
+                           b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
+    return column0 + a.f * (column1 - column0);
+}
+
 
 }  // namespace texr
