@@ -12,7 +12,7 @@ namespace {
 
 std::string number(double v) {
     char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.4g", v);
+    std::snprintf(buffer, sizeof buffer, "%.3g", v);
     return buffer;
 }
 
@@ -30,7 +30,7 @@ std::string escape(const std::string& s) {
 }  // namespace
 
 std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& points) {
-    const double width = 900, height = 560, left = 80, right = 230, top = 50, bottom = 70;
+    const double width = 900, height = 560, left = 100, right = 230, top = 50, bottom = 70;
     const auto fx = [&](double x) { return axes.log_x ? std::log10(std::max(x, 1e-12)) : x; };
     const auto fy = [&](double y) { return axes.log_y ? std::log10(std::max(y, 1e-12)) : y; };
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
@@ -69,7 +69,7 @@ std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& poin
     }
     svg += "<text x=\"" + number(left + plot_w / 2) + "\" y=\"" + number(height - 20) + "\" text-anchor=\"middle\">" +
            escape(axes.x_label) + (axes.log_x ? " (log scale)" : "") + "</text>\n";
-    svg += "<text transform=\"translate(22," + number(top + plot_h / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
+    svg += "<text transform=\"translate(18," + number(top + plot_h / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
            escape(axes.y_label) + (axes.log_y ? " (log scale)" : "") + "</text>\n";
     // Points, one colour per series.
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf"};

@@ -94,7 +94,7 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // Work in base-level texels so the axes are comparable when W != H.
     const double w = mip.base().width(), h = mip.base().height();
     double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
-    double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
+    double major = std::sqrt(d1u * d1u + d1v * d1v), minor = std::sqrt(d2u * d2u + d2v * d2v);
     if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
     if (!(major > 0.0)) {
         texels = 4;

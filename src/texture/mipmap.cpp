@@ -106,9 +106,9 @@ Image downsample(const Image& source) {
     return Image::ldr(mw, mh, source.color_space(), std::move(ldr));
 }
 
-int MipMap::level_count() const {
+int MipMap::count_levels(const Image& base) {
     int levels = 1;
-    for (int w = base_->width(), h = base_->height(); w > 1 || h > 1; w = std::max(1, w / 2), h = std::max(1, h / 2))
+    for (int w = base.width(), h = base.height(); w > 1 || h > 1; w = std::max(1, w / 2), h = std::max(1, h / 2))
         ++levels;
     return levels;
 }

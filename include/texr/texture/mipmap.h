@@ -28,7 +28,7 @@ Image downsample(const Image& source);
 
 class MipMap {
 public:
-    explicit MipMap(std::shared_ptr<const Image> base) : base_(std::move(base)) {}
+    explicit MipMap(std::shared_ptr<const Image> base) : base_(std::move(base)), level_count_(count_levels(*base_)) {}
 
     const Image& base() const { return *base_; }
     // Level l (0 is the base); builds the pyramid on first call with l > 0.
@@ -38,14 +38,16 @@ public:
         return levels_[std::size_t(l - 1)];
     }
     // Number of levels including the base (down to 1x1). Does not build them.
-    int level_count() const;
+    int level_count() const { return level_count_; }
     bool built() const { return built_flag_.load(); }
     double build_seconds() const { return build_seconds_; }
     std::size_t bytes() const;  // all levels above the base
     void build() const;
 
 private:
+    static int count_levels(const Image& base);
     std::shared_ptr<const Image> base_;
+    int level_count_;
     mutable std::once_flag once_;
     mutable std::vector<Image> levels_;
     mutable std::atomic<bool> built_flag_{false};
