@@ -20,8 +20,11 @@ using namespace texr;
 
 namespace {
 
-void check_golden(const std::string& scene_file, int width, int height, const std::string& golden_name) {
-    const Scene scene = load_scene(testing::source_path(scene_file));
+void check_golden(const std::string& scene_file, int width, int height, const std::string& golden_name,
+                  const Filter* filter = nullptr) {
+    Scene scene = load_scene(testing::source_path(scene_file));
+    if (filter)
+        for (Texture& t : scene.textures) t.sampler.filter = *filter;
     RenderStats stats;
     const Framebuffer fb = render(scene, {width, height}, stats);
     const std::string golden = testing::source_path("tests/golden/" + golden_name);
@@ -56,4 +59,12 @@ TEST_CASE("golden: textured plane receding to the horizon") { check_golden("mode
 
 TEST_CASE("golden: demo scene (plane, lit torus, OBJ cube with two materials)") {
     check_golden("models/demo.scene", 200, 150, "demo.png");
+}
+
+TEST_CASE("golden: every filter on the receding benchmark plane") {
+    for (int f = 0; f < filter_count; ++f) {
+        const Filter filter = Filter(f);
+        CAPTURE(filter_name(filter));
+        check_golden("models/bench/plane.scene", 192, 144, std::string("plane-") + filter_name(filter) + ".png", &filter);
+    }
 }

@@ -166,7 +166,7 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
 
 void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& rows) {
     std::string csv =
-        "scene,width,height,threads,filter,load_ms,mip_build_ms,frame_ms_median,covered_pixels,covered_mpix_per_s,"
+        "scene,width,height,threads,filter,mode,load_ms,mip_build_ms,frame_ms_median,covered_pixels,covered_mpix_per_s,"
         "psnr_db,ssim,texels_per_pixel\n";
     std::string md =
         "| scene | size | threads | filter | frame ms (median) | covered Mpx/s | PSNR dB | SSIM | texels/px |\n"
@@ -175,7 +175,7 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
     for (const FilterRow& r : rows) {
         const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
         csv += r.scene + "," + std::to_string(r.width) + "," + std::to_string(r.height) + "," + std::to_string(r.threads) +
-               "," + r.filter + "," + fixed(r.load_ms, 3) + "," + fixed(r.mip_ms, 3) + "," + fixed(r.frame_ms, 3) + "," +
+               "," + r.filter + ",incremental," + fixed(r.load_ms, 3) + "," + fixed(r.mip_ms, 3) + "," + fixed(r.frame_ms, 3) + "," +
                fixed(r.covered_pixels, 0) + "," + fixed(r.mpix_per_s, 2) + "," + fixed(r.psnr_db, 3) + "," +
                fixed(r.ssim, 5) + "," + fixed(r.texels_per_pixel, 2) + "\n";
         md += "| " + r.scene + " | " + size + " | " + std::to_string(r.threads) + " | " + r.filter + " | " +
@@ -450,14 +450,15 @@ std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
 }
 
 void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows) {
-    std::string csv = "dimension,scene,size,width,height,threads,frame_ms_median,rate,rate_unit,mip_build_ms,peak_mb,data_mb,peak_over_data\n";
+    std::string csv = "dimension,scene,size,width,height,threads,filter,mode,frame_ms_median,rate,rate_unit,mip_build_ms,peak_mb,data_mb,peak_over_data\n";
     std::string md = "| grows | scene | size | frame | threads | frame ms (median) | rate | mip build ms | peak MB | data MB | peak / data |\n"
                      "|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotPoint> points;
     for (const ScaleRow& r : rows) {
         const std::string frame = std::to_string(r.width) + "x" + std::to_string(r.height);
         csv += r.dimension + "," + r.scene + "," + fixed(r.size, 0) + "," + std::to_string(r.width) + "," + std::to_string(r.height) +
-               "," + std::to_string(r.threads) + "," + fixed(r.frame_ms, 3) + "," + fixed(r.rate, 3) + "," + r.rate_unit + "," +
+               "," + std::to_string(r.threads) + "," + (r.dimension == "texture" ? "trilinear" : "bilinear") + ",incremental," +
+               fixed(r.frame_ms, 3) + "," + fixed(r.rate, 3) + "," + r.rate_unit + "," +
                fixed(r.mip_ms, 1) + "," + fixed(r.peak_mb, 1) + "," + fixed(r.expected_mb, 1) + "," + fixed(r.peak_mb / r.expected_mb, 3) + "\n";
         md += "| " + r.dimension + " | " + r.scene + " | " + fixed(r.size, 0) + " | " + frame + " | " + std::to_string(r.threads) +
               " | " + fixed(r.frame_ms, 2) + " | " + fixed(r.rate, 2) + " " + r.rate_unit + " | " + fixed(r.mip_ms, 1) + " | " +

@@ -20,10 +20,12 @@ Needs needs_of(const Material& material, const Scene& scene) {
 
 std::string describe(Needs needs) {
     static const char* names[] = {"uv", "uv derivatives", "normal", "vertex colour", "world position"};
-    std::string text;
-    for (int i = 0; i < 5; ++i)
-        if (needs & (1u << i)) text += (text.empty() ? "" : ", ") + std::string(names[i]);
-    return text.empty() ? "nothing but depth" : text;
+    std::string used, skipped;
+    for (int i = 0; i < 5; ++i) {
+        std::string& list = (needs & (1u << i)) ? used : skipped;
+        list += (list.empty() ? "" : ", ") + std::string(names[i]);
+    }
+    return (used.empty() ? std::string("nothing but depth") : used) + (skipped.empty() ? "" : "; skips " + skipped);
 }
 
 }  // namespace texr

@@ -21,7 +21,7 @@ using Needs = unsigned;
 
 Needs needs_of(const Material& material, const Scene& scene);
 
-// "uv, normal" or "nothing but depth", for --stats.
+// "uv, normal; skips uv derivatives, vertex colour, world position", for --stats.
 std::string describe(Needs needs);
 
 }  // namespace texr

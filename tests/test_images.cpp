@@ -1,0 +1,107 @@
+// Image loading (PNG, JPEG, TGA, BMP, Radiance HDR through stb_image), orientation, colour
+// spaces, and filtering in linear space.
+#include <doctest/doctest.h>
+
+#include <stb_image_write.h>
+
+#include <cmath>
+
+#include "helpers.h"
+#include "texr/core/color.h"
+#include "texr/render/renderer.h"
+#include "texr/texture/image.h"
+#include "texr/texture/reconstruct.h"
+
+using namespace texr;
+
+namespace {
+
+// A 4 x 2 image whose file rows are: top = red, green, blue, white; bottom = grey levels.
+constexpr int w = 4, h = 2;
+const std::uint8_t pixels[w * h * 3] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255,
+                                        0,   0, 0, 64, 64, 64, 128, 128, 128, 192, 192, 192};
+
+}  // namespace
+
+TEST_CASE("PNG, TGA, BMP and JPEG load with v = 0 at the bottom row of the file") {
+    const std::string dir = testing::scratch_folder("formats");
+    REQUIRE(stbi_write_png((dir + "/a.png").c_str(), w, h, 3, pixels, w * 3));
+    REQUIRE(stbi_write_tga((dir + "/a.tga").c_str(), w, h, 3, pixels));
+    REQUIRE(stbi_write_bmp((dir + "/a.bmp").c_str(), w, h, 3, pixels));
+    REQUIRE(stbi_write_jpg((dir + "/a.jpg").c_str(), w, h, 3, pixels, 100));
+    for (const char* name : {"a.png", "a.tga", "a.bmp", "a.jpg"}) {
+        CAPTURE(name);
+        const Image image = load_image(dir + "/" + name, ColorSpace::linear);
+        REQUIRE(image.width() == w);
+        REQUIRE(image.height() == h);
+        const double tolerance = std::string(name) == "a.jpg" ? 12.0 / 255.0 : 1e-6;  // JPEG is lossy
+        for (int i = 0; i < w; ++i)
+            for (int row = 0; row < h; ++row) {
+                const Color4 t = image.texel(i, h - 1 - row);  // file row 0 is texel row h - 1
+                for (int c = 0; c < 3; ++c) CHECK(std::fabs(t[c] - pixels[(row * w + i) * 3 + c] / 255.0) <= tolerance);
+                CHECK(t[3] == 1.0f);
+            }
+    }
+}
+
+TEST_CASE("Radiance HDR loads as linear float, values above 1 kept") {
+    const std::string dir = testing::scratch_folder("hdr");
+    const float data[2 * 3] = {4.0f, 0.5f, 0.25f, 0.125f, 16.0f, 1.0f};  // exact in RGBE
+    REQUIRE(stbi_write_hdr((dir + "/a.hdr").c_str(), 2, 1, 3, data));
+    const Image image = load_image(dir + "/a.hdr", ColorSpace::srgb);  // HDR ignores the sRGB request
+    REQUIRE(image.is_hdr());
+    CHECK(image.texel(0, 0).x == doctest::Approx(4.0f));
+    CHECK(image.texel(0, 0).y == doctest::Approx(0.5f));
+    CHECK(image.texel(1, 0).y == doctest::Approx(16.0f));
+}
+
+TEST_CASE("sRGB texels are decoded before filtering; data texels are not") {
+    // Black and white side by side: halfway between them, linear filtering gives linear 0.5
+    // (sRGB 188), not sRGB 128 (which would be linear 0.216).
+    const std::vector<std::uint8_t> rgba = {0, 0, 0, 255, 255, 255, 255, 255};
+    Sampler s;
+    s.wrap_u = s.wrap_v = Wrap::clamp;
+    const Image colour = Image::ldr(2, 1, ColorSpace::srgb, rgba);
+    CHECK(sample_bilinear(colour, s, 0.5, 0.5).x == doctest::Approx(0.5f));
+    CHECK(linear_to_srgb8(sample_bilinear(colour, s, 0.5, 0.5).x) == 188);
+    // A data image is read as stored: byte 128 is 128 / 255, and halfway is the byte average.
+    const Image data = Image::ldr(2, 1, ColorSpace::linear, {128, 0, 0, 255, 0, 0, 0, 255});
+    CHECK(data.texel(0, 0).x == doctest::Approx(128.0f / 255.0f));
+    CHECK(sample_bilinear(data, s, 0.5, 0.5).x == doctest::Approx(64.0f / 255.0f));
+    // And sRGB decoding matches the IEC 61966-2-1 curve at a few hand-worked points.
+    CHECK(srgb8_to_linear_table()[0] == 0.0f);
+    CHECK(srgb8_to_linear_table()[255] == doctest::Approx(1.0f));
+    CHECK(srgb8_to_linear_table()[10] == doctest::Approx(10.0 / 255.0 / 12.92));
+    CHECK(srgb8_to_linear_table()[128] == doctest::Approx(std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4)));
+}
+
+TEST_CASE("mip levels are built only for textures that get minified") {
+    auto make_scene = [](double distance) {
+        Scene scene = testing::camera_scene(64, 64, {0, 0, 0}, {0, 0, -1}, 60.0, 0.1, 1000.0);
+        std::vector<std::uint8_t> rgba(16 * 16 * 4, 200);
+        Texture t;
+        t.image = std::make_shared<const Image>(Image::ldr(16, 16, ColorSpace::srgb, rgba));
+        t.mipmap = std::make_shared<MipMap>(t.image);
+        t.sampler.filter = Filter::trilinear;
+        scene.textures.push_back(t);
+        Material m;
+        m.texture = 0;
+        scene.materials.push_back(m);
+        // A square facing the camera: near, 16 texels span about 64 pixels (magnified);
+        // far, they span a few pixels (minified).
+        Vertex a, b, c, d;
+        a.position = glm::vec3(-1, -1, float(-distance)), a.uv = {0, 0};
+        b.position = glm::vec3(1, -1, float(-distance)), b.uv = {1, 0};
+        c.position = glm::vec3(1, 1, float(-distance)), c.uv = {1, 1};
+        d.position = glm::vec3(-1, 1, float(-distance)), d.uv = {0, 1};
+        testing::add_triangle(scene, {a, b, c}, 0);
+        testing::add_triangle(scene, {a, c, d}, 0);
+        return scene;
+    };
+    const Scene near = make_scene(1.5), far = make_scene(60.0);
+    RenderStats stats;
+    render(near, {}, stats);
+    CHECK_FALSE(near.textures[0].mipmap->built());
+    render(far, {}, stats);
+    CHECK(far.textures[0].mipmap->built());
+}
