@@ -94,6 +94,17 @@ Comparison render_and_compare(const std::array<Vertex, 3>& v) {
     return c;
 }
 
+// Renders the triangle and checks it against the ray caster: finite everywhere, the same
+// coverage away from edges, colours within the snapping allowance.
+void check_matches_ray_caster(const std::array<Vertex, 3>& v, int at_least_covered) {
+    const Comparison c = render_and_compare(v);
+    CHECK(c.all_finite);
+    CHECK(c.covered > at_least_covered);
+    CHECK(c.mismatched == 0);
+    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
+    CHECK(c.worst_color <= 1.0);
+}
+
 Vertex vertex(double x, double y, double z, Color color) {
     Vertex v;
     v.position = glm::vec3(float(x), float(y), float(z));
@@ -105,32 +116,17 @@ Vertex vertex(double x, double y, double z, Color color) {
 
 TEST_CASE("clipping: a triangle with a vertex behind the camera renders what a ray caster sees") {
     const std::array<Vertex, 3> v = {vertex(0, -1, 2, {1, 0, 0}), vertex(-3, -1, -5, {0, 1, 0}), vertex(3, -1, -5, {0, 0, 1})};
-    const Comparison c = render_and_compare(v);
-    CHECK(c.all_finite);
-    CHECK(c.covered > 500);
-    CHECK(c.mismatched == 0);
-    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
-    CHECK(c.worst_color <= 1.0);
+    check_matches_ray_caster(v, 500);
 }
 
 TEST_CASE("clipping: a vertex exactly on the camera plane (w = 0)") {
     const std::array<Vertex, 3> v = {vertex(0.5, -0.5, 0, {1, 1, 0}), vertex(-2, -1, -4, {0, 1, 1}), vertex(2, 1, -6, {1, 0, 1})};
-    const Comparison c = render_and_compare(v);
-    CHECK(c.all_finite);
-    CHECK(c.covered > 200);
-    CHECK(c.mismatched == 0);
-    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
-    CHECK(c.worst_color <= 1.0);
+    check_matches_ray_caster(v, 200);
 }
 
 TEST_CASE("clipping: a vertex at w = 1e-7, just in front of the camera plane") {
     const std::array<Vertex, 3> v = {vertex(0.3, -0.2, -1e-7, {1, 0, 0}), vertex(-2, -1.5, -3, {0, 1, 0}), vertex(2.5, -1, -3, {0, 0, 1})};
-    const Comparison c = render_and_compare(v);
-    CHECK(c.all_finite);
-    CHECK(c.covered > 200);
-    CHECK(c.mismatched == 0);
-    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
-    CHECK(c.worst_color <= 1.0);
+    check_matches_ray_caster(v, 200);
 }
 
 TEST_CASE("clipping: nothing from behind the camera is drawn") {
@@ -148,10 +144,5 @@ TEST_CASE("clipping: nothing from behind the camera is drawn") {
 
 TEST_CASE("clipping: perspective-correct colours on a plane seen at a grazing angle") {
     const std::array<Vertex, 3> v = {vertex(-50, -0.3, -0.2, {1, 0, 0}), vertex(50, -0.3, -0.2, {0, 1, 0}), vertex(0, -0.3, -80, {0, 0, 1})};
-    const Comparison c = render_and_compare(v);
-    CHECK(c.all_finite);
-    CHECK(c.covered > 500);
-    CHECK(c.mismatched == 0);
-    MESSAGE("colour error / allowed: " << c.worst_color << " over " << c.covered << " pixels");
-    CHECK(c.worst_color <= 1.0);
+    check_matches_ray_caster(v, 500);
 }

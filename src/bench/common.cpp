@@ -1,0 +1,58 @@
+// Shared pieces of the benchmarks (see src/bench/common.h).
+#include "common.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sys/stat.h>
+
+#include "texr/io/frame_writer.h"
+
+namespace texr::bench {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::vector<bool> covered(const Framebuffer& fb) {
+    std::vector<bool> mask(fb.depth.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = fb.drawn(i);
+    return mask;
+}
+
+void make_folders(const std::string& path) {
+    std::string partial;
+    for (std::size_t i = 0; i <= path.size(); ++i) {
+        if (i == path.size() || path[i] == '/') {
+            if (!partial.empty()) ::mkdir(partial.c_str(), 0755);
+        }
+        if (i < path.size()) partial += path[i];
+    }
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
+}
+
+std::string fixed(double v, int digits) {
+    char buffer[64];
+    if (std::isinf(v)) return "inf";
+    std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+    return buffer;
+}
+
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats) {
+    RenderStats warm;
+    render(scene, options, warm);
+    std::vector<double> times;
+    for (int r = 0; r < repeat; ++r) {
+        stats = RenderStats{};
+        const auto start = Clock::now();
+        render(scene, options, stats);
+        times.push_back(ms_since(start));
+    }
+    return median(times);
+}
+
+}  // namespace texr::bench

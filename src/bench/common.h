@@ -1,0 +1,43 @@
+// Shared pieces of the benchmarks (src/bench/*.cpp): options, timing, output files.
+#pragma once
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "texr/render/framebuffer.h"
+#include "texr/render/renderer.h"
+
+#ifndef TEXR_MODELS_DIR
+#define TEXR_MODELS_DIR "models"
+#endif
+
+namespace texr::bench {
+
+using Clock = std::chrono::steady_clock;
+inline double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+struct BenchOptions {
+    int width = 1024, height = 768, repeat = 7, spp = 16, threads = 1;
+    bool threads_given = false;
+    std::string models = TEXR_MODELS_DIR, out = "out/bench";
+};
+
+double median(std::vector<double> v);
+// Renders once to warm caches, then `repeat` timed frames; returns the median in ms and the
+// last frame's counters.
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats);
+// The pixels a frame's surfaces cover.
+std::vector<bool> covered(const Framebuffer& fb);
+void make_folders(const std::string& path);
+// Written atomically, like frames.
+void write_text_file(const std::string& path, const std::string& text);
+// v with `digits` decimals ("inf" for infinity).
+std::string fixed(double v, int digits);
+
+// The benchmarks: each renders, measures and writes NAME.csv, NAME.md and NAME.svg.
+void run_filters(const BenchOptions& o);
+void run_spans(const BenchOptions& o);
+void run_scale(const BenchOptions& o);
+
+}  // namespace texr::bench

@@ -1,0 +1,211 @@
+// texr bench scale: how time and memory grow with triangles, pixels and texture size. Each
+// case runs in a child process so that its peak memory is its own.
+#include "common.h"
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <stdexcept>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include "texr/bench/plot.h"
+#include "texr/scene/parser.h"
+
+namespace texr::bench {
+
+namespace {
+
+struct ScaleRow {
+    std::string dimension, scene;
+    double size;  // triangles, pixels or texels
+    int width, height, threads;
+    double frame_ms, rate, peak_mb, expected_mb, mip_ms;
+    std::string rate_unit;
+};
+
+// Peak resident memory of this process so far, in MB.
+double peak_rss_mb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
+}
+
+// Runs `measure` in a child process so that its peak memory is its own, and returns the row
+// it filled in (through a pipe).
+ScaleRow in_child(const std::function<ScaleRow()>& measure) {
+    int fds[2];
+    if (pipe(fds) != 0) return measure();
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        ScaleRow row = measure();
+        row.peak_mb = peak_rss_mb();
+        const std::string text = row.dimension + "\t" + row.scene + "\t" + fixed(row.size, 0) + "\t" + std::to_string(row.width) +
+                                 "\t" + std::to_string(row.height) + "\t" + std::to_string(row.threads) + "\t" +
+                                 fixed(row.frame_ms, 4) + "\t" + fixed(row.rate, 4) + "\t" + fixed(row.peak_mb, 2) + "\t" +
+                                 fixed(row.expected_mb, 2) + "\t" + fixed(row.mip_ms, 3) + "\t" + row.rate_unit + "\n";
+        if (write(fds[1], text.data(), text.size()) < 0) _exit(1);
+        close(fds[1]);
+        _exit(0);
+    }
+    close(fds[1]);
+    std::string text;
+    char buffer[512];
+    ssize_t n;
+    while ((n = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, std::size_t(n));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    std::vector<std::string> f;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= text.size(); ++i)
+        if (i == text.size() || text[i] == '\t' || text[i] == '\n') {
+            f.push_back(text.substr(start, i - start));
+            start = i + 1;
+        }
+    if (f.size() < 12) throw std::runtime_error("a scale benchmark child process failed");
+    return {f[0], f[1], std::stod(f[2]), std::stoi(f[3]), std::stoi(f[4]), std::stoi(f[5]), std::stod(f[6]),
+            std::stod(f[7]), std::stod(f[8]), std::stod(f[9]), std::stod(f[10]), f[11]};
+}
+
+// A wavy k x k grid of quads (2 k^2 triangles) filling the view of `camera_scene`.
+Mesh terrain(int k) {
+    Mesh m;
+    m.has_uv = true;
+    for (int j = 0; j <= k; ++j)
+        for (int i = 0; i <= k; ++i) {
+            Vertex v;
+            const double x = -4.0 + 8.0 * i / k, z = -1.0 - 6.0 * j / k;
+            v.position = glm::vec3(float(x), float(-1.0 + 0.1 * std::sin(7 * x) * std::cos(5 * z)), float(z));
+            v.uv = {4.0 * i / k, 4.0 * j / k};
+            m.vertices.push_back(v);
+        }
+    for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i) {
+            const auto at = [&](int a, int b) { return std::uint32_t(b * (k + 1) + a); };
+            m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    m.triangle_material.assign(m.triangles.size(), 0);
+    return m;
+}
+
+// A procedural size x size sRGB texture (cells and a fine checker, like detail.png).
+std::shared_ptr<const Image> procedural_texture(int size) {
+    std::vector<std::uint8_t> rgba(std::size_t(size) * std::size_t(size) * 4);
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) {
+            const std::size_t p = 4 * (std::size_t(j) * std::size_t(size) + std::size_t(i));
+            const int cu = i / 32, cv = j / 32, fine = ((i / 8) + (j / 8)) % 2;
+            rgba[p] = std::uint8_t(60 + (cu * 37) % 180 + 40 * fine);
+            rgba[p + 1] = std::uint8_t(60 + (cv * 53) % 180 + 40 * fine);
+            rgba[p + 2] = std::uint8_t(60 + ((cu + cv) * 29) % 180);
+            rgba[p + 3] = 255;
+        }
+    return std::make_shared<const Image>(Image::ldr(size, size, ColorSpace::srgb, std::move(rgba)));
+}
+
+std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
+    const int threads = o.threads_given ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
+    std::vector<ScaleRow> rows;
+    const double fb_bytes_per_pixel = sizeof(Color) + sizeof(float);
+    const std::string plane_path = o.models + "/bench/plane.scene";
+    // Triangles: a terrain of 10^4 .. 10^6 triangles at 1920x1080.
+    for (int k : {71, 224, 708}) {
+        rows.push_back(in_child([&] {
+            Scene scene = load_scene(plane_path);
+            for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;
+            scene.meshes = {terrain(k)};
+            scene.objects = {Object{0, glm::dmat4(1.0), false}};
+            scene.camera.eye = {0.0, 0.5, 0.5}, scene.camera.target = {0.0, -1.0, -4.0};
+            RenderOptions options;
+            options.width = 1920, options.height = 1080, options.threads = threads;
+            RenderStats stats;
+            const double ms = timed_median(scene, options, o.repeat, stats);
+            const double expected = (double(scene.textures[0].image->bytes()) + 1920.0 * 1080.0 * fb_bytes_per_pixel +
+                                     double(scene.meshes[0].vertices.size() * sizeof(Vertex) +
+                                            scene.meshes[0].triangles.size() * (sizeof(std::array<std::uint32_t, 3>) + sizeof(int)))) /
+                                    1048576.0;
+            return ScaleRow{"triangles", "terrain", double(stats.triangles_in), 1920, 1080, threads, ms,
+                            double(stats.triangles_in) / (ms * 1e3), 0.0, expected, 0.0, "M triangles/s"};
+        }));
+        std::fprintf(stderr, "bench scale: %.0f triangles: %.2f ms, %.2f M triangles/s, peak %.0f MB\n", rows.back().size,
+                     rows.back().frame_ms, rows.back().rate, rows.back().peak_mb);
+    }
+    // Pixels: the receding plane from 640x480 to 3840x2160.
+    for (auto [w, h] : {std::pair{640, 480}, std::pair{1920, 1080}, std::pair{3840, 2160}}) {
+        rows.push_back(in_child([&, w = w, h = h] {
+            Scene scene = load_scene(plane_path);
+            for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;
+            RenderOptions options;
+            options.width = w, options.height = h, options.threads = threads;
+            RenderStats stats;
+            const double ms = timed_median(scene, options, o.repeat, stats);
+            const double expected = (double(scene.textures[0].image->bytes()) + double(w) * h * fb_bytes_per_pixel) / 1048576.0;
+            return ScaleRow{"pixels", "plane", double(w) * h, w, h, threads, ms, double(stats.pixels_shaded) / (ms * 1e3), 0.0,
+                            expected, 0.0, "M covered px/s"};
+        }));
+        std::fprintf(stderr, "bench scale: %dx%d: %.2f ms, peak %.0f MB\n", w, h, rows.back().frame_ms, rows.back().peak_mb);
+    }
+    // Texture size: 1024^2 .. 8192^2, trilinear (so every mip level is built), 1920x1080.
+    for (int size : {1024, 4096, 8192}) {
+        rows.push_back(in_child([&] {
+            Scene scene = load_scene(plane_path);
+            for (Texture& t : scene.textures) {
+                t.image = procedural_texture(size);
+                t.mipmap = std::make_shared<MipMap>(t.image);
+                t.sampler.filter = Filter::trilinear;
+            }
+            scene.textures.resize(1);  // only the procedural texture stays alive
+            scene.textures[0].mipmap->build();
+            const double mip_ms = 1000.0 * scene.textures[0].mipmap->build_seconds();
+            RenderOptions options;
+            options.width = 1920, options.height = 1080, options.threads = threads;
+            RenderStats stats;
+            const double ms = timed_median(scene, options, o.repeat, stats);
+            const MipMap& mip = *scene.textures[0].mipmap;
+            const double expected = (double(mip.base().bytes()) + double(mip.bytes()) + 1920.0 * 1080.0 * fb_bytes_per_pixel) / 1048576.0;
+            return ScaleRow{"texture", "plane", double(size) * size, 1920, 1080, threads, ms,
+                            double(stats.pixels_shaded) / (ms * 1e3), 0.0, expected, mip_ms, "M covered px/s"};
+        }));
+        std::fprintf(stderr, "bench scale: texture %d^2: %.2f ms, mips %.0f ms, peak %.0f MB of %.0f MB\n", size,
+                     rows.back().frame_ms, rows.back().mip_ms, rows.back().peak_mb, rows.back().expected_mb);
+    }
+    return rows;
+}
+
+void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows) {
+    std::string csv = "dimension,scene,size,width,height,threads,filter,mode,frame_ms_median,rate,rate_unit,mip_build_ms,peak_mb,data_mb,peak_over_data\n";
+    std::string md = "| grows | scene | size | frame | threads | frame ms (median) | rate | mip build ms | peak MB | data MB | peak / data |\n"
+                     "|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|\n";
+    std::vector<PlotPoint> points;
+    for (const ScaleRow& r : rows) {
+        const std::string frame = std::to_string(r.width) + "x" + std::to_string(r.height);
+        csv += r.dimension + "," + r.scene + "," + fixed(r.size, 0) + "," + std::to_string(r.width) + "," + std::to_string(r.height) +
+               "," + std::to_string(r.threads) + "," + (r.dimension == "texture" ? "trilinear" : "bilinear") + ",incremental," +
+               fixed(r.frame_ms, 3) + "," + fixed(r.rate, 3) + "," + r.rate_unit + "," +
+               fixed(r.mip_ms, 1) + "," + fixed(r.peak_mb, 1) + "," + fixed(r.expected_mb, 1) + "," + fixed(r.peak_mb / r.expected_mb, 3) + "\n";
+        md += "| " + r.dimension + " | " + r.scene + " | " + fixed(r.size, 0) + " | " + frame + " | " + std::to_string(r.threads) +
+              " | " + fixed(r.frame_ms, 2) + " | " + fixed(r.rate, 2) + " " + r.rate_unit + " | " + fixed(r.mip_ms, 1) + " | " +
+              fixed(r.peak_mb, 1) + " | " + fixed(r.expected_mb, 1) + " | " + fixed(r.peak_mb / r.expected_mb, 2) + " |\n";
+        points.push_back({r.dimension, fixed(r.size, 0), r.size, r.frame_ms});
+    }
+    md += "\nData MB: texture texels, mip levels, frame buffers (12-byte colour + 4-byte depth per pixel) and mesh "
+          "arrays; peak MB: the measuring process's peak resident size (each row in its own process, program and "
+          "libraries included).\n";
+    write_text_file(o.out + "/scale.csv", csv);
+    write_text_file(o.out + "/scale.md", md);
+    PlotAxes axes{"texr bench scale: frame time as triangles, pixels and texture size grow", "size (triangles, pixels or texels)",
+                  "median frame time, ms", true};
+    axes.log_y = true;
+    write_text_file(o.out + "/scale.svg", scatter_svg(axes, points));
+}
+
+}  // namespace
+
+void run_scale(const BenchOptions& o) { write_scale_report(o, bench_scale(o)); }
+
+}  // namespace texr::bench

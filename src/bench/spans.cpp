@@ -1,0 +1,104 @@
+// texr bench spans: every span mode on the same scenes, timed, with the max and mean texel
+// error of its (u, v) against the exact mode.
+#include "common.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "texr/bench/plot.h"
+#include "texr/raster/span_modes.h"
+#include "texr/scene/parser.h"
+
+namespace texr::bench {
+
+namespace {
+
+struct SpanRow {
+    std::string scene, mode;
+    int width, height, threads;
+    double frame_ms, max_error, mean_error, covered_pixels;
+};
+
+std::vector<SpanRow> bench_spans(const BenchOptions& o) {
+    std::vector<SpanRow> rows;
+    for (const std::string name : {"plane", "grazing"}) {
+        Scene scene = load_scene(o.models + "/bench/" + name + ".scene");
+        for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;  // the span cost, not a filter's, dominates
+        const double texture_w = scene.textures.at(0).mipmap->base().width();
+        const double texture_h = scene.textures.at(0).mipmap->base().height();
+        RenderOptions options;
+        options.width = o.width, options.height = o.height, options.threads = o.threads;
+        // The reference: exact mode, every pixel's (u, v) = u'/q from the plane equations in
+        // double precision, nothing accumulated.
+        options.capture_uv = true;
+        options.span_mode = SpanMode::exact;
+        RenderStats reference_stats;
+        const Framebuffer reference = render(scene, options, reference_stats);
+        std::fprintf(stderr, "bench spans: %s\n", name.c_str());
+        for (int m = 0; m < span_mode_count; ++m) {
+            options.span_mode = SpanMode(m);
+            options.capture_uv = true;
+            RenderStats stats;
+            const Framebuffer captured = render(scene, options, stats);
+            double max_error = 0.0, sum = 0.0;
+            std::size_t count = 0;
+            for (std::size_t i = 0; i < captured.uv.size(); ++i) {
+                if (!reference.drawn(i)) continue;
+                const glm::dvec2 a = captured.uv[i], b = reference.uv[i];
+                const double e = std::max(std::fabs(a.x - b.x) * texture_w, std::fabs(a.y - b.y) * texture_h);
+                max_error = std::max(max_error, e), sum += e, ++count;
+            }
+            options.capture_uv = false;
+            RenderStats warm;
+            render(scene, options, warm);
+            std::vector<double> times;
+            for (int r = 0; r < o.repeat; ++r) {
+                RenderStats timed;
+                const auto start = Clock::now();
+                render(scene, options, timed);
+                times.push_back(ms_since(start));
+            }
+            SpanRow row{name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, median(times), max_error,
+                        count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)};
+            std::fprintf(stderr, "  %-12s %9.2f ms  max %.3g texel  mean %.3g texel\n", row.mode.c_str(), row.frame_ms,
+                         row.max_error, row.mean_error);
+            rows.push_back(row);
+        }
+    }
+    return rows;
+}
+
+void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows) {
+    std::string csv = "scene,width,height,threads,filter,mode,frame_ms_median,max_error_texels,mean_error_texels,covered_pixels\n";
+    std::string md = "| scene | size | threads | filter | span mode | frame ms (median) | max error (texels) | mean error (texels) |\n"
+                     "|---|---|---|---|---|---:|---:|---:|\n";
+    std::vector<PlotPoint> points;
+    for (const SpanRow& r : rows) {
+        const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
+        char errors[96];
+        std::snprintf(errors, sizeof errors, "%.3g,%.3g", r.max_error, r.mean_error);
+        csv += r.scene + "," + std::to_string(r.width) + "," + std::to_string(r.height) + "," + std::to_string(r.threads) +
+               ",bilinear," + r.mode + "," + fixed(r.frame_ms, 3) + "," + errors + "," + fixed(r.covered_pixels, 0) + "\n";
+        char cells[96];
+        std::snprintf(cells, sizeof cells, "%.3g | %.3g", r.max_error, r.mean_error);
+        md += "| " + r.scene + " | " + size + " | " + std::to_string(r.threads) + " | bilinear | " + r.mode + " | " +
+              fixed(r.frame_ms, 2) + " | " + cells + " |\n";
+        points.push_back({r.scene, r.mode, r.frame_ms, std::max(r.max_error, 1e-12)});
+    }
+    md += "\nErrors are against the exact mode (u'/q from the plane equations at every pixel, in double "
+          "precision); the adaptive mode's tolerance is 1/64 texel.\n";
+    write_text_file(o.out + "/spans.csv", csv);
+    write_text_file(o.out + "/spans.md", md);
+    PlotAxes axes{"texr bench spans: run time against texture coordinate error", "median frame time, ms",
+                  "max error, texels", true};
+    axes.log_y = true;
+    write_text_file(o.out + "/spans.svg", scatter_svg(axes, points));
+}
+
+// --- texr bench scale -----------------------------------------------------------------------
+
+}  // namespace
+
+void run_spans(const BenchOptions& o) { write_spans_report(o, bench_spans(o)); }
+
+}  // namespace texr::bench

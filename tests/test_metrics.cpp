@@ -1,0 +1,42 @@
+// The benchmark's error metrics against hand-worked values.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "texr/bench/metrics.h"
+
+using namespace texr;
+
+namespace {
+FrameBytes noise(int w, int h, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    FrameBytes f{w, h, std::vector<std::uint8_t>(std::size_t(w) * std::size_t(h) * 3)};
+    for (auto& b : f.rgb) b = std::uint8_t(20 + rng() % 200);
+    return f;
+}
+}  // namespace
+
+TEST_CASE("PSNR: identical is infinite; an error of one level everywhere is 10 log10(255^2) dB") {
+    const FrameBytes a = noise(16, 8, 1);
+    const std::vector<bool> all(16 * 8, true);
+    CHECK(std::isinf(psnr(a, a, all)));
+    FrameBytes b = a;
+    for (auto& v : b.rgb) v = std::uint8_t(v + 1);
+    CHECK(psnr(a, b, all) == doctest::Approx(10.0 * std::log10(255.0 * 255.0)));  // 48.13 dB
+    // Only masked pixels count: a wrong pixel outside the mask changes nothing.
+    FrameBytes c = a;
+    c.rgb[0] = std::uint8_t(c.rgb[0] + 100);
+    std::vector<bool> mask = all;
+    mask[0] = false;
+    CHECK(std::isinf(psnr(a, c, mask)));
+}
+
+TEST_CASE("SSIM: 1 for identical frames, lower for noise, symmetric") {
+    const FrameBytes a = noise(24, 20, 2), b = noise(24, 20, 3);
+    const std::vector<bool> all(24 * 20, true);
+    CHECK(ssim(a, a, all) == doctest::Approx(1.0));
+    const double s = ssim(a, b, all);
+    CHECK(s < 0.2);  // independent noise: no structure in common
+    CHECK(s == doctest::Approx(ssim(b, a, all)));
+}
