@@ -6,7 +6,12 @@
 
 namespace texr {
 
-std::int64_t snap(double pixels) { return std::llround(pixels * double(subpixel_scale)); }
+std::int64_t snap(double pixels) {
+    // Round half away from zero, like std::llround, without its library call. |pixels| stays
+    // within the guard band (2^15), far inside int64.
+    const double t = pixels * double(subpixel_scale);
+    return static_cast<std::int64_t>(t + (t >= 0.0 ? 0.5 : -0.5));
+}
 
 std::int64_t twice_signed_area(const std::array<SnappedVertex, 3>& v) {
     return (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
