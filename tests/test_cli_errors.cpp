@@ -189,3 +189,24 @@ TEST_CASE("an OBJ face that refers to a missing normal or texture coordinate is 
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
 }
+
+TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by hand") {
+    // A square at depth 2 filling a 90-degree view of 64x64 pixels, UV (0,0) bottom left to
+    // (1,1) top right. At pixel (16, 48): u = 16.5/64, v = 1 - 48.5/64, q = 1/w = 1/2,
+    // du/dx = 1/64, dv/dy = -1/64.
+    const std::string dir = scratch_folder("explain");
+    write_text(dir + "/scene.txt",
+               "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\n"
+               "quad v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 1 v -2 2 -2 0 1\n");
+    const RunResult r = run_texr("explain " + dir + "/scene.txt 16 48");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("u = u'/q = 0.2578125 ") != std::string::npos);
+    CHECK(r.output.find("v = v'/q = 0.2421875") != std::string::npos);
+    CHECK(r.output.find("q = 1/w = 0.5") != std::string::npos);
+    CHECK(r.output.find("du/dx = 0.015625 ") != std::string::npos);
+    CHECK(r.output.find("dv/dy = -0.015625") != std::string::npos);
+    const RunResult outside = run_texr("explain " + dir + "/scene.txt 64 0");
+    CHECK(outside.exit_code == 2);
+    CHECK(outside.output.find("X must be a pixel index from 0 to 63") != std::string::npos);
+}

@@ -1,6 +1,7 @@
 // texr command line: texr render SCENE [-o out/NAME.png|.ppm] [--size WxH] [--repeat N] [--stats]
 // Exit codes: 0 success, 1 bad input or failed output (one message on stderr), 2 usage error.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "texr/bench/bench.h"
 #include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
+#include "texr/render/explain.h"
 #include "texr/render/needs.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
@@ -24,6 +26,8 @@ const char* main_help =
     "\n"
     "commands:\n"
     "  render SCENE    render a scene file to a PNG or PPM frame\n"
+    "  explain SCENE X Y  tell the story of pixel (X, Y): its triangle, homography,\n"
+    "                  (u', v', q), u and v, derivatives, level of detail, colour\n"
     "  bench [NAME]    run benchmarks (run time against error) into out/bench/\n"
     "\n"
     "options:\n"
@@ -31,6 +35,14 @@ const char* main_help =
     "  --version       print the version\n"
     "\n"
     "The scene format is described in docs/scene-format.md.\n";
+
+const char* explain_help =
+    "usage: texr explain SCENE X Y [--size WxH] [--span MODE]\n"
+    "\n"
+    "Renders SCENE (nothing is written) and explains pixel (X, Y), column X from the left and\n"
+    "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
+    "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
+    "u = u'/q and v = v'/q, the exact derivatives, the level of detail, and the colour.\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"
@@ -106,6 +118,19 @@ void parse_size(const std::string& text, RenderArguments& args) {
                          std::to_string(texr::max_image_pixels) + " pixels"};
     args.width = int(width);
     args.height = int(height);
+}
+
+int parse_coordinate(const std::string& text, const std::string& name, int limit) {
+    std::size_t used = 0;
+    long long value = -1;
+    try {
+        value = std::stoll(text, &used);
+    } catch (...) {
+        used = 0;
+    }
+    if (used != text.size() || value < 0 || value >= limit)
+        throw UsageError{name + " must be a pixel index from 0 to " + std::to_string(limit - 1) + ", got '" + text + "'"};
+    return int(value);
 }
 
 std::string default_output(const std::string& scene) {
@@ -216,6 +241,40 @@ int run_render(const std::vector<std::string>& argv) {
     return 0;
 }
 
+int run_explain(const std::vector<std::string>& argv) {
+    for (const auto& a : argv)
+        if (a == "-h" || a == "--help") {
+            std::fputs(explain_help, stdout);
+            return 0;
+        }
+    std::vector<std::string> positional, options;
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+        if (argv[i] == "--size" || argv[i] == "--span") {
+            options.push_back(argv[i]);
+            if (i + 1 < argv.size()) options.push_back(argv[++i]);
+        } else if (!argv[i].empty() && argv[i][0] == '-' && !(argv[i].size() > 1 && std::isdigit(static_cast<unsigned char>(argv[i][1])))) {
+            throw UsageError{"unknown option '" + argv[i] + "' for 'texr explain'"};
+        } else {
+            positional.push_back(argv[i]);
+        }
+    }
+    if (positional.size() != 3) throw UsageError{"texr explain needs SCENE X Y (try texr explain --help)"};
+    options.insert(options.begin(), positional[0]);
+    options.push_back("-o");
+    options.push_back("unused.png");  // parse_render_arguments wants an output; nothing is written
+    const RenderArguments args = parse_render_arguments(options);
+    const texr::Scene scene = texr::load_scene(args.scene);
+    texr::RenderOptions o;
+    o.width = args.width, o.height = args.height, o.span_mode = args.span;
+    const int width = o.width > 0 ? o.width : scene.width, height = o.height > 0 ? o.height : scene.height;
+    const int x = parse_coordinate(positional[1], "X", width), y = parse_coordinate(positional[2], "Y", height);
+    o.explain_x = x, o.explain_y = y;
+    texr::RenderStats stats;
+    const texr::Framebuffer fb = texr::render(scene, o, stats);
+    std::fputs(texr::describe(*fb.explanation, scene).c_str(), stdout);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -235,6 +294,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (command == "render") return run_render({args.begin() + 1, args.end()});
+        if (command == "explain") return run_explain({args.begin() + 1, args.end()});
         if (command == "bench") {
             const std::vector<std::string> rest(args.begin() + 1, args.end());
             for (const auto& a : rest)

@@ -14,6 +14,7 @@
 #include "texr/raster/edges.h"
 #include "texr/raster/homography.h"
 #include "texr/raster/span_walk.h"
+#include "texr/render/explain.h"
 #include "texr/render/needs.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/reconstruct.h"
@@ -72,6 +73,10 @@ struct DrawContext {
     double span_tolerance;
     double* u_scratch;       // a row's worth of (u, v) for span modes other than incremental
     double* v_scratch;
+    PixelExplanation* explain;  // texr explain: the pixel to record, or null
+    int object, material_index;
+    std::size_t triangle;
+    bool clipped;
 };
 
 // Everything the span walk needs of one screen triangle.
@@ -80,6 +85,7 @@ struct TriangleSetup {
     Plane depth;             // window depth, affine in screen space
     TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
     Plane u_affine, v_affine;  // SpanMode::affine only
+    std::array<glm::dvec2, 3> screen;  // snapped vertices, for texr explain
     std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
 };
 
@@ -198,6 +204,14 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
     stats.texels_fetched += texels;
 }
 
+void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb) {
+    PixelExplanation& e = *d.explain;
+    const std::size_t i = fb.index(e.x, e.y);
+    e.covered = true;
+    e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
+    e.screen = s.screen, e.h = s.h, e.depth = fb.depth[i], e.color = fb.color[i];
+}
+
 template <Needs N>
 void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
     int first = 0, last = -1;
@@ -206,9 +220,13 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
         ++stats.spans;
+        // texr explain: did this triangle win the explained pixel?
+        const bool explained = d.explain && y == d.explain->y && d.explain->x >= span.x0 && d.explain->x < span.x1;
+        const float depth_before = explained ? fb.depth[fb.index(d.explain->x, y)] : 0.0f;
         if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
             for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
         shade_span<N>(d, s, y, span, fb, stats);
+        if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record(d, s, fb);
     }
 }
 
@@ -277,11 +295,14 @@ public:
                   Framebuffer& fb, RenderStats& stats)
         : scene_(scene), fb_(fb), stats_(stats), width_(fb.width), height_(fb.height), options_(options),
           band_(guard_band_for(fb.width, fb.height)), needs_(needs), rows_(rows),
-          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {}
+          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)),
+          explain_(fb.explanation && rows.owns(fb.explanation->y) ? fb.explanation.get() : nullptr) {}
 
-    void draw(const Object& object, const TransformedMesh& vertices) {
+    void draw(int object_index, const TransformedMesh& vertices) {
+        const Object& object = scene_.objects[std::size_t(object_index)];
         const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
         v_ = &vertices;
+        object_index_ = object_index;
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) draw_triangle(mesh, t, object.cull_back);
     }
 
@@ -303,7 +324,8 @@ private:
                                 ? &scene_.textures[std::size_t(scene_.materials[std::size_t(material)].texture)]
                                 : nullptr,
                             std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,
-                            u_scratch_.data(), v_scratch_.data()};
+                            u_scratch_.data(), v_scratch_.data(), explain_, object_index_, material, t,
+                            result == ClipResult::clipped};
         const Needs needs = needs_[std::size_t(material)];
         // The clipped polygon is convex: a fan from its first vertex.
         for (int i = 1; i + 1 < polygon_.count; ++i)
@@ -337,14 +359,14 @@ private:
         ++triangle_counters_.triangles_set_up;
         if (!owns_any_row(s.edges)) return;  // all its rows belong to other workers
 
+        s.screen = screen;
         const auto lambda = barycentric_planes(screen);
         s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
         s.h.q = over_w_plane(lambda, {1.0, 1.0, 1.0}, inv_w);
-        if (needs & need_uv) {
+        if ((needs & need_uv) || d.explain) {  // texr explain shows u and v even when unused
             std::array<double, 3> u = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
             std::array<double, 3> v = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
-            rebase(u, d.texture->sampler.wrap_u);
-            rebase(v, d.texture->sampler.wrap_v);
+            if (d.texture) rebase(u, d.texture->sampler.wrap_u), rebase(v, d.texture->sampler.wrap_v);
             s.h.u_prime = over_w_plane(lambda, u, inv_w);
             s.h.v_prime = over_w_plane(lambda, v, inv_w);
             if (d.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w
@@ -393,6 +415,8 @@ private:
     const TransformedMesh* v_ = nullptr;
     ClipPolygon polygon_;
     std::vector<double> u_scratch_, v_scratch_;
+    PixelExplanation* explain_ = nullptr;
+    int object_index_ = 0;
 };
 
 }  // namespace
@@ -408,6 +432,10 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     Framebuffer fb(width, height, scene.background);
     if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
     if (options.capture_uv) fb.uv.assign(fb.color.size(), glm::dvec2(std::nan("")));
+    if (options.explain_x >= 0 && options.explain_y >= 0 && options.explain_x < width && options.explain_y < height) {
+        fb.explanation = std::make_shared<PixelExplanation>();
+        fb.explanation->x = options.explain_x, fb.explanation->y = options.explain_y;
+    }
     std::vector<Needs> needs;
     for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
 
@@ -430,7 +458,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     RenderStats triangle_counters;
     auto work = [&](int index) {
         FrameRenderer frame(scene, needs, options, RowSet{index, workers}, fb, worker_stats[std::size_t(index)]);
-        for (std::size_t i = 0; i < scene.objects.size(); ++i) frame.draw(scene.objects[i], transformed[i]);
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) frame.draw(int(i), transformed[i]);
         if (index == 0) triangle_counters = frame.triangle_counters_;
     };
     std::vector<std::thread> threads;

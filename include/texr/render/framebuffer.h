@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -24,6 +25,8 @@ struct Framebuffer {
     // Benchmark instrumentation, empty unless sized by the caller: the (u, v) each visible
     // pixel was textured with.
     std::vector<glm::dvec2> uv;
+    // texr explain: the story of one pixel, when asked for (render/explain.h).
+    std::shared_ptr<struct PixelExplanation> explanation;
 
     Framebuffer(int w, int h, Color background)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h), background),

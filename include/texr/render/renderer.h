@@ -23,6 +23,7 @@ struct RenderOptions {
     double span_tolerance = 1.0 / 64.0;
     bool count_coverage = false;  // fill Framebuffer::coverage (tests)
     bool capture_uv = false;      // fill Framebuffer::uv with each visible pixel's (u, v) (benchmarks)
+    int explain_x = -1, explain_y = -1;  // texr explain: record this pixel's story in Framebuffer::explanation
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);

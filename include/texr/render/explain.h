@@ -1,0 +1,31 @@
+// texr explain: the story of one pixel, step by step as the lecture tells it: which
+// triangle covers it, the triangle's homography M^-1 = U diag(1/w) adj(S) and its inverse M,
+// (u', v', q) at the pixel centre, u = u'/q and v = v'/q, the exact derivatives, the level
+// of detail, and the colour written.
+#pragma once
+#include <array>
+#include <string>
+
+#include "texr/raster/homography.h"
+#include "texr/render/needs.h"
+#include "texr/scene/scene.h"
+
+namespace texr {
+
+struct PixelExplanation {
+    int x = 0, y = 0;
+    bool covered = false;      // false: the background shows
+    int object = -1;           // index into Scene::objects
+    std::size_t triangle = 0;  // index into that object's mesh
+    int material = -1;
+    bool clipped = false;      // the triangle was cut by a clipping plane (this is one piece)
+    std::array<glm::dvec2, 3> screen{};  // the piece's vertices in pixels, snapped to 1/256
+    TextureHomography h;       // for the piece, with its UVs re-based by whole periods
+    double depth = 0.0;
+    Color color{0.0f};         // linear, as written to the frame
+};
+
+// The explanation as text for a person reading along with the lecture.
+std::string describe(const PixelExplanation& e, const Scene& scene);
+
+}  // namespace texr

@@ -1,0 +1,95 @@
+// texr explain: one pixel's story as text (see include/texr/render/explain.h).
+#include "texr/render/explain.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "texr/texture/minify.h"
+
+namespace texr {
+
+namespace {
+
+std::string format(const char* pattern, double a = 0, double b = 0, double c = 0, double d = 0) {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer, pattern, a, b, c, d);
+    return buffer;
+}
+
+std::string matrix(const glm::dmat3& m, const char* const rows[3]) {
+    std::string out;
+    for (int r = 0; r < 3; ++r)  // glm is column-major: m[column][row]
+        out += "    " + std::string(rows[r]) + format(" [ %14.8g %14.8g %14.8g ]\n", m[0][r], m[1][r], m[2][r]);
+    return out;
+}
+
+const char* wrap_name(Wrap w) {
+    switch (w) {
+        case Wrap::repeat: return "repeat";
+        case Wrap::mirror: return "mirror";
+        case Wrap::clamp: return "clamp";
+        case Wrap::border: return "border";
+    }
+    return "?";
+}
+
+}  // namespace
+
+std::string describe(const PixelExplanation& e, const Scene& scene) {
+    const double x = e.x + 0.5, y = e.y + 0.5;
+    std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + "), sampled at its centre " +
+                      format("(%.1f, %.1f)\n", x, y);
+    if (!e.covered) return out + "no triangle covers it: the background colour shows\n";
+
+    const Material& m = scene.materials[std::size_t(e.material)];
+    const Mesh& mesh = scene.meshes[std::size_t(scene.objects[std::size_t(e.object)].mesh)];
+    out += "front-most triangle: object " + std::to_string(e.object) + " (" + mesh.source + "), triangle " +
+           std::to_string(e.triangle) + ", material '" + m.name + "'" + (e.clipped ? "; clipped, this is one piece\n" : "\n");
+    out += "  what the material needs per pixel: " + describe(needs_of(m, scene)) + "\n";
+
+    out += "\n1. Screen vertices S (pixels, snapped to 1/256) and q = 1/w at each:\n";
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec2& p = e.screen[std::size_t(i)];
+        out += format("    v%.0f = (%.4f, %.4f)   1/w = %.8g\n", i, p.x, p.y, e.h.q.at(p.x, p.y));
+    }
+
+    const char* inverse_rows[3] = {"u'", "v'", "q "};
+    out += "\n2. The inverse homography M^-1 = U diag(1/w) adj(S) / det(S): rows u', v', q; columns x, y, 1\n";
+    out += matrix(e.h.inverse(), inverse_rows);
+    if (const auto forward = e.h.forward()) {
+        const char* forward_rows[3] = {"x'", "y'", "w "};
+        out += "   and the forward homography M = (M^-1)^-1: (u, v, 1) -> (x', y', w)\n" + matrix(*forward, forward_rows);
+    } else {
+        out += "   (the UVs are collinear: M^-1 is singular and there is no forward M; u, v are still defined)\n";
+    }
+
+    const double u_prime = e.h.u_prime.at(x, y), v_prime = e.h.v_prime.at(x, y), q = e.h.q.at(x, y);
+    const double u = u_prime / q, v = v_prime / q;
+    out += "\n3. At the pixel centre (the span walk steps these by the constant d/dx of each row):\n";
+    out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
+    out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", u, v);
+    const UVDerivatives d = uv_derivatives(e.h, u, v, q);
+    out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
+    out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", d.dudx, d.dvdx, d.dudy, d.dvdy);
+
+    if (m.texture >= 0) {
+        const Texture& t = scene.textures[std::size_t(m.texture)];
+        const int w = t.mipmap->base().width(), h = t.mipmap->base().height();
+        out += "\n5. Texture '" + t.name + "' (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
+               filter_name(t.sampler.filter) + ", wrap " + wrap_name(t.sampler.wrap_u) + "/" + wrap_name(t.sampler.wrap_v) +
+               ", " + (t.sampler.registration == Registration::cell ? "cell" : "node") + " registration):\n";
+        const double lx = t.sampler.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
+        const double ly = t.sampler.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
+        out += format("    lattice coordinates (texels, before wrapping): x = %.4f, y = %.4f\n", lx, ly);
+        const double lambda = level_of_detail(d, w, h);
+        out += format("    footprint: |d(u,v)/dx| = %.4g texels, |d(u,v)/dy| = %.4g texels\n",
+                      std::sqrt(std::pow(w * d.dudx, 2) + std::pow(h * d.dvdx, 2)),
+                      std::sqrt(std::pow(w * d.dudy, 2) + std::pow(h * d.dvdy, 2)));
+        out += format("    level of detail lambda = log2(max of the two) = %.4f ", lambda) +
+               (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");
+    }
+    out += format("\n6. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);
+    return out;
+}
+
+}  // namespace texr
