@@ -19,6 +19,8 @@ const char* bench_help =
     "  filters     every texture filter on a receding plane and a grazing-angle square:\n"
     "              median frame time, covered Mpixel/s, PSNR and SSIM against a\n"
     "              supersampled ground truth\n"
+    "  threads     the receding plane with nearest, bilinear, trilinear and EWA on 1\n"
+    "              thread and on every core: covered Mpixel/s and the speed-up\n"
     "  scale       1e4..1e6 triangles at 1920x1080, frames up to 3840x2160, textures up\n"
     "              to 8192^2 with mipmaps: time, triangles/s and peak memory (all cores)\n"
     "  spans       every span mode (exact, incremental, affine8/16/32, affine, adaptive)\n"
@@ -72,10 +74,10 @@ int run_bench(const std::vector<std::string>& args) {
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
         else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192;
-        else if (a == "filters" || a == "spans" || a == "scale") names.push_back(a);
+        else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") names.push_back(a);
         else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
     }
-    if (names.empty()) names = {"filters", "spans", "scale"};
+    if (names.empty()) names = {"filters", "spans", "threads", "scale"};
     make_folders(o.out);
     std::string index = "# texr benchmarks\n\n";
     for (const std::string& name : names) {
@@ -85,6 +87,9 @@ int run_bench(const std::vector<std::string>& args) {
         } else if (name == "spans") {
             run_spans(o);
             index += "- [spans](spans.md): span modes, time against texture coordinate error ([csv](spans.csv), [plot](spans.svg))\n";
+        } else if (name == "threads") {
+            run_threads(o);
+            index += "- [threads](threads.md): nearest, bilinear, trilinear and EWA on 1 thread and on every core ([csv](threads.csv), [plot](threads.svg))\n";
         } else if (name == "scale") {
             run_scale(o);
             index += "- [scale](scale.md): time and memory as triangles, pixels and texture size grow ([csv](scale.csv), [plot](scale.svg))\n";

@@ -39,5 +39,6 @@ std::string fixed(double v, int digits);
 void run_filters(const BenchOptions& o);
 void run_spans(const BenchOptions& o);
 void run_scale(const BenchOptions& o);
+void run_threads(const BenchOptions& o);
 
 }  // namespace texr::bench
