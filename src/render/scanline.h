@@ -1,0 +1,215 @@
+// The scanline walk (DESIGN.md, "scanline walk" and "fragment"): for one prepared triangle,
+// the spans of the rows a worker owns, pixel by pixel: depth test, (u, v) and the other
+// attributes from their planes, texture lookup, shading. Compiled once per Needs set.
+// Internal to the renderer: included by src/render/renderer.cpp only.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <utility>
+
+#include "texr/raster/edges.h"
+#include "texr/raster/homography.h"
+#include "texr/raster/span_modes.h"
+#include "texr/raster/span_walk.h"
+#include "texr/render/explain.h"
+#include "texr/render/framebuffer.h"
+#include "texr/render/needs.h"
+#include "texr/render/stats.h"
+#include "texr/texture/lookup.h"
+#include "texr/texture/reconstruct.h"
+
+namespace texr {
+namespace {
+
+// The rows one worker thread owns: bands of band_rows rows, dealt round-robin. Every pixel
+// belongs to exactly one worker, and each worker draws the triangles in submission order,
+// so the frame is the same bytes for any number of threads.
+struct RowSet {
+    static constexpr int band_rows = 8;
+    int index = 0, count = 1;
+
+    bool owns(int y) const { return (y / band_rows) % count == index; }
+    // The first row >= y that this worker owns.
+    int first_owned(int y) const {
+        if (owns(y)) return y;
+        const int band = y / band_rows;
+        const int ahead = ((index - band % count) + count) % count;  // > 0: band is not ours
+        return (band + ahead) * band_rows;
+    }
+    int next_owned(int y) const { return first_owned(y + 1); }
+};
+
+// What one draw (a material on a mesh) shades with.
+struct DrawContext {
+    const Scene& scene;
+    const Material& material;
+    const Texture* texture;  // null for an untextured material
+    int spp;                 // > 1: supersampled texture ground truth
+    SpanMode span_mode;
+    double span_tolerance;
+    double* u_scratch;       // a row's worth of (u, v) for span modes other than incremental
+    double* v_scratch;
+    PixelExplanation* explain;  // texr explain: the pixel to record, or null
+    int object, material_index;
+    std::size_t triangle;
+    bool clipped;
+};
+
+// Everything the span walk needs of one screen triangle.
+struct TriangleSetup {
+    TriangleEdges edges;
+    Plane depth;             // window depth, affine in screen space
+    TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
+    Plane u_affine, v_affine;  // SpanMode::affine only
+    std::array<glm::dvec2, 3> screen;  // snapped vertices, for texr explain
+    std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
+};
+
+template <Needs N>
+Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal, const glm::dvec3& color,
+            const glm::dvec3& world) {
+    Color c = d.material.color;
+    if constexpr ((N & need_uv) != 0) c *= Color(texel);
+    if constexpr ((N & need_color) != 0) c *= Color(color);
+    if (d.material.lighting == Lighting::lambert) {
+        Color irradiance = d.scene.ambient;
+        if constexpr ((N & need_normal) != 0) {
+            const glm::dvec3 n = glm::normalize(normal);
+            for (const Light& light : d.scene.lights) {
+                glm::dvec3 to_light = -light.vector;
+                if constexpr ((N & need_world_position) != 0)
+                    if (light.kind == Light::Kind::point) to_light = glm::normalize(light.vector - world);
+                irradiance += light.color * float(std::max(0.0, glm::dot(n, to_light)));
+            }
+        }
+        c *= irradiance;
+    }
+    (void)texel, (void)normal, (void)color, (void)world;
+    return c;
+}
+
+// The ground truth for texture filtering: spp x spp stratified sub-pixel positions, each
+// with its exact (u, v) from the homography, read bilinearly from the base level.
+Color4 supersampled_texel(const DrawContext& d, const TextureHomography& h, int x, int y, std::uint64_t& texels) {
+    const int n = d.spp;
+    Color4 sum(0.0f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec2 uv = h.uv_at(x + (i + 0.5) / n, y + (j + 0.5) / n);
+            sum += sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, uv.x, uv.y);
+        }
+    texels += 4 * std::uint64_t(n) * std::uint64_t(n);
+    return sum / float(n * n);
+}
+
+// Three planes stepped together (a vector attribute over w).
+struct SteppedVector {
+    SteppedPlane p[3];
+    static SteppedVector start(const std::array<Plane, 3>& planes, int x0, int y) {
+        return {{SteppedPlane::start(planes[0], x0, y), SteppedPlane::start(planes[1], x0, y),
+                 SteppedPlane::start(planes[2], x0, y)}};
+    }
+    glm::dvec3 value() const { return {p[0].value, p[1].value, p[2].value}; }
+    void advance() { p[0].advance(), p[1].advance(), p[2].advance(); }
+};
+
+// The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
+// pixel centre come from the plane equations; within the span they are stepped by their
+// constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
+template <Needs N>
+void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+    constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
+    const int x0 = span.x0;
+    // Texture coordinates: stepped here (incremental), or precomputed for the span by
+    // another span mode, which may need no divide per pixel at all.
+    const bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
+    if constexpr ((N & need_uv) != 0)
+        if (!stepped_uv) {
+            SpanTexturing t;
+            t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
+            t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
+            span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
+        }
+    // 1/q per pixel is needed by perspective attributes, derivatives and stepped (u, v).
+    constexpr bool attributes_need_q = (N & (need_uv_derivatives | need_normal | need_color | need_world_position)) != 0;
+    const bool divide = attributes_need_q || stepped_uv;
+
+    SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);
+    SteppedPlane u_prime, v_prime, q;
+    SteppedVector normal{}, color{}, world{};
+    if constexpr (perspective) q = SteppedPlane::start(s.h.q, x0, y);
+    if constexpr ((N & need_uv) != 0) u_prime = SteppedPlane::start(s.h.u_prime, x0, y), v_prime = SteppedPlane::start(s.h.v_prime, x0, y);
+    if constexpr ((N & need_normal) != 0) normal = SteppedVector::start(s.normal, x0, y);
+    if constexpr ((N & need_color) != 0) color = SteppedVector::start(s.color, x0, y);
+    if constexpr ((N & need_world_position) != 0) world = SteppedVector::start(s.world, x0, y);
+
+    float* depth_row = &fb.depth[fb.index(0, y)];
+    Color* color_row = &fb.color[fb.index(0, y)];
+    glm::dvec2* uv_row = fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
+    std::uint64_t shaded = 0, texels = 0;
+    for (int x = span.x0; x < span.x1; ++x) {
+        if (float(depth.value) < depth_row[x]) {
+            depth_row[x] = float(depth.value);
+            double inv_q = 1.0;
+            if constexpr (perspective)
+                if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
+            Color4 texel(1.0f);
+            if constexpr ((N & need_uv) != 0) {
+                const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
+                const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
+                UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
+                if constexpr ((N & need_uv_derivatives) != 0) derivatives = uv_derivatives(s.h, u, v, q.value);
+                texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
+                                  : lookup(*d.texture, u, v, derivatives, texels);
+                if (uv_row) uv_row[x] = {u, v};
+            }
+            color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
+            ++shaded;
+        }
+        depth.advance();
+        if constexpr (perspective) q.advance();
+        if constexpr ((N & need_uv) != 0) u_prime.advance(), v_prime.advance();
+        if constexpr ((N & need_normal) != 0) normal.advance();
+        if constexpr ((N & need_color) != 0) color.advance();
+        if constexpr ((N & need_world_position) != 0) world.advance();
+    }
+    stats.pixels_shaded += shaded;
+    stats.texels_fetched += texels;
+}
+
+void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb) {
+    PixelExplanation& e = *d.explain;
+    const std::size_t i = fb.index(e.x, e.y);
+    e.covered = true;
+    e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
+    e.screen = s.screen, e.h = s.h, e.depth = fb.depth[i], e.color = fb.color[i];
+}
+
+template <Needs N>
+void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
+    int first = 0, last = -1;
+    row_range(s.edges, fb.height, first, last);
+    for (int y = rows.first_owned(first); y <= last; y = rows.next_owned(y)) {
+        const Span span = span_for_row(s.edges, y, fb.width);
+        if (span.x0 >= span.x1) continue;
+        ++stats.spans;
+        // texr explain: did this triangle win the explained pixel?
+        const bool explained = d.explain && y == d.explain->y && d.explain->x >= span.x0 && d.explain->x < span.x1;
+        const float depth_before = explained ? fb.depth[fb.index(d.explain->x, y)] : 0.0f;
+        if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
+            for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
+        shade_span<N>(d, s, y, span, fb, stats);
+        if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record(d, s, fb);
+    }
+}
+
+// One compiled walk per Needs set.
+using WalkFunction = void (*)(const DrawContext&, const TriangleSetup&, const RowSet&, Framebuffer&, RenderStats&);
+template <std::size_t... I>
+constexpr std::array<WalkFunction, sizeof...(I)> make_walk_table(std::index_sequence<I...>) {
+    return {&walk_triangle<Needs(I)>...};
+}
+constexpr auto walk_table = make_walk_table(std::make_index_sequence<need_all + 1>());
+
+}  // namespace
+}  // namespace texr

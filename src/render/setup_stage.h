@@ -1,0 +1,184 @@
+// Triangle setup (DESIGN.md, "vertex stage", "clip", "triangle setup"): vertices to clip
+// space, homogeneous clipping, viewport and 1/256-pixel snapping, culling, edge functions,
+// and the plane equations of depth, u', v', q and whatever else the material needs.
+// Internal to the renderer: included by src/render/renderer.cpp only.
+#pragma once
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <glm/matrix.hpp>
+
+#include "scanline.h"
+#include "texr/raster/clip.h"
+#include "texr/render/renderer.h"
+
+namespace texr {
+namespace {
+
+// Large texture coordinates: for periodic wraps, shift a triangle's coordinates by a whole
+// number of periods (1 for repeat, 2 for mirror) so the smallest is in [0, period). The
+// texture reads the same, and u', v' keep their precision (a quad with UVs near 1e5
+// renders like one near 0). Clamp and border are not periodic and are left alone.
+void rebase(std::array<double, 3>& t, Wrap wrap) {
+    if (wrap != Wrap::repeat && wrap != Wrap::mirror) return;
+    const double period = wrap == Wrap::repeat ? 1.0 : 2.0;
+    const double low = std::min({t[0], t[1], t[2]});
+    if (!(std::fabs(low) < 1e15)) return;  // beyond that no fraction is left to keep
+    const double shift = period * std::floor(low / period);
+    for (double& x : t) x -= shift;
+}
+
+// Object-space vertex data carried to clip space, per object.
+struct TransformedMesh {
+    std::vector<glm::dvec4> clip;
+    std::vector<glm::dvec3> world, normal;  // filled only when a material needs them
+};
+
+// The vertex stage of one object for vertices [first, last): object -> world -> clip, and
+// only what the materials need. `v` is already sized.
+void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_projection, std::size_t first,
+               std::size_t last, TransformedMesh& v) {
+    const glm::dmat4 to_clip = view_projection * object.transform;
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
+    for (std::size_t i = first; i < last; ++i) {
+        const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
+        v.clip[i] = to_clip * p;
+        if (!v.world.empty()) v.world[i] = glm::dvec3(object.transform * p);
+        if (!v.normal.empty()) v.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
+    }
+}
+
+bool finite(const glm::dvec4& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+}
+
+template <typename Get>
+std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, const std::array<std::uint32_t, 3>& tri,
+                                    Get get) {
+    std::array<double, 3> out{};
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) out[std::size_t(k)] += weights[std::size_t(k)][j] * double(get(tri[std::size_t(j)]));
+    return out;
+}
+
+// A triangle (or one piece of a clipped triangle) ready for the span walk.
+struct PreparedPiece {
+    TriangleSetup s;
+    int object, material;
+    std::size_t triangle;
+    bool clipped;
+};
+
+// Stage one, once per triangle (each worker takes a share): clipping, viewport, snapping,
+// culling and triangle setup (DESIGN.md, "triangle setup").
+class SetupStage {
+public:
+    SetupStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, const Framebuffer& fb,
+               RenderStats& counters)
+        : scene_(scene), needs_(needs), options_(options), width_(fb.width), height_(fb.height),
+          band_(guard_band_for(fb.width, fb.height)), explaining_(fb.explanation != nullptr), counters_(counters) {}
+
+    // Prepares triangles [first, last) of object `object_index`, appending their pieces.
+    void prepare(int object_index, const TransformedMesh& vertices, std::size_t first, std::size_t last,
+                 std::vector<PreparedPiece>& out) {
+        const Object& object = scene_.objects[std::size_t(object_index)];
+        const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
+        for (std::size_t t = first; t < last; ++t) prepare_triangle(object_index, object, mesh, vertices, t, out);
+    }
+
+private:
+    void prepare_triangle(int object_index, const Object& object, const Mesh& mesh, const TransformedMesh& v,
+                          std::size_t t, std::vector<PreparedPiece>& out) {
+        ++counters_.triangles_in;
+        const auto& tri = mesh.triangles[t];
+        const glm::dvec4& a = v.clip[tri[0]];
+        const glm::dvec4& b = v.clip[tri[1]];
+        const glm::dvec4& c = v.clip[tri[2]];
+        if (!finite(a) || !finite(b) || !finite(c)) { ++counters_.triangles_dropped; return; }
+        const ClipResult result = clip_triangle(a, b, c, band_, polygon_);
+        if (result == ClipResult::outside) { ++counters_.triangles_culled; return; }
+        if (result == ClipResult::clipped) ++counters_.triangles_clipped;
+        // The clipped polygon is convex: a fan from its first vertex.
+        for (int i = 1; i + 1 < polygon_.count; ++i) {
+            PreparedPiece piece{{}, object_index, mesh.triangle_material[t], t, result == ClipResult::clipped};
+            if (prepare_piece(mesh, v, tri, {polygon_.vertices[0], polygon_.vertices[std::size_t(i)], polygon_.vertices[std::size_t(i + 1)]},
+                              object.cull_back, piece))
+                out.push_back(piece);
+        }
+    }
+
+    bool prepare_piece(const Mesh& mesh, const TransformedMesh& v, const std::array<std::uint32_t, 3>& tri,
+                       const std::array<ClipVertex, 3>& corners, bool cull_back, PreparedPiece& piece) {
+        // Viewport: NDC -> pixels (row 0 at the top), snapped to 1/256 pixel.
+        std::array<SnappedVertex, 3> snapped;
+        std::array<glm::dvec2, 3> screen;
+        std::array<double, 3> inv_w, depth;
+        std::array<glm::dvec3, 3> weights;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec4& p = corners[std::size_t(k)].position;
+            inv_w[std::size_t(k)] = 1.0 / p.w;
+            const double x = (p.x * inv_w[std::size_t(k)] * 0.5 + 0.5) * width_;
+            const double y = (0.5 - p.y * inv_w[std::size_t(k)] * 0.5) * height_;
+            snapped[std::size_t(k)] = {snap(x), snap(y)};
+            screen[std::size_t(k)] = {double(snapped[std::size_t(k)].x) / subpixel_scale, double(snapped[std::size_t(k)].y) / subpixel_scale};
+            depth[std::size_t(k)] = p.z * inv_w[std::size_t(k)] * 0.5 + 0.5;
+            weights[std::size_t(k)] = corners[std::size_t(k)].weights;
+        }
+        TriangleSetup& s = piece.s;
+        if (!triangle_edges(snapped, s.edges)) { ++counters_.triangles_dropped; return false; }
+        // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
+        // front-facing triangle has negative signed area there.
+        if (cull_back && twice_signed_area(snapped) > 0) { ++counters_.triangles_culled; return false; }
+        if (off_screen(snapped)) { ++counters_.triangles_culled; return false; }
+        ++counters_.triangles_set_up;
+
+        const Material& material = scene_.materials[std::size_t(piece.material)];
+        const Needs needs = needs_[std::size_t(piece.material)];
+        const Texture* texture = material.texture >= 0 ? &scene_.textures[std::size_t(material.texture)] : nullptr;
+        s.screen = screen;
+        const auto lambda = barycentric_planes(screen);
+        s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
+        s.h.q = over_w_plane(lambda, {1.0, 1.0, 1.0}, inv_w);
+        if ((needs & need_uv) || explaining_) {  // texr explain shows u and v even when unused
+            std::array<double, 3> u = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
+            std::array<double, 3> vv = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
+            if (texture) rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v);
+            s.h.u_prime = over_w_plane(lambda, u, inv_w);
+            s.h.v_prime = over_w_plane(lambda, vv, inv_w);
+            if (options_.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w
+                s.u_affine = over_w_plane(lambda, u, {1.0, 1.0, 1.0});
+                s.v_affine = over_w_plane(lambda, vv, {1.0, 1.0, 1.0});
+            }
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (needs & need_normal)
+                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v.normal[i][axis]; }), inv_w);
+            if (needs & need_color)
+                s.color[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].color[axis]; }), inv_w);
+            if (needs & need_world_position)
+                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v.world[i][axis]; }), inv_w);
+        }
+        return true;
+    }
+
+    bool off_screen(const std::array<SnappedVertex, 3>& v) const {
+        const std::int64_t half = subpixel_scale / 2;  // pixel centres are at 256 k + 128
+        const std::int64_t min_x = std::min({v[0].x, v[1].x, v[2].x}), max_x = std::max({v[0].x, v[1].x, v[2].x});
+        const std::int64_t min_y = std::min({v[0].y, v[1].y, v[2].y}), max_y = std::max({v[0].y, v[1].y, v[2].y});
+        return max_x < half || max_y < half || min_x > (width_ - 1) * subpixel_scale + half ||
+               min_y > (height_ - 1) * subpixel_scale + half;
+    }
+
+    const Scene& scene_;
+    const std::vector<Needs>& needs_;
+    const RenderOptions& options_;
+    int width_, height_;
+    GuardBand band_;
+    bool explaining_;
+    RenderStats& counters_;
+    ClipPolygon polygon_;
+};
+
+}  // namespace
+}  // namespace texr
