@@ -21,7 +21,7 @@ std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& s) {
 
 Plane over_w_plane(const std::array<Plane, 3>& barycentric, const std::array<double, 3>& value,
                    const std::array<double, 3>& inv_w) {
-    Plane p;
+    Plane p{0.0, 0.0, 0.0};
     for (int i = 0; i < 3; ++i) {
         const double k = value[i] * inv_w[i];
         p.dx += k * barycentric[i].dx;

@@ -99,7 +99,7 @@ int thread_count(int requested) {
 
 // Triangles are prepared and drawn in chunks of this many: small enough that the prepared
 // pieces stay in cache between the two stages.
-constexpr std::size_t chunk_triangles = 512;
+constexpr std::size_t chunk_triangles = 4096;
 
 }  // namespace
 

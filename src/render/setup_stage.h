@@ -64,6 +64,7 @@ std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, co
 
 // A triangle (or one piece of a clipped triangle) ready for the span walk.
 struct PreparedPiece {
+    PreparedPiece() {}  // leaves the setup unfilled: prepare_piece writes what will be read
     TriangleSetup s;
     int object, material;
     std::size_t triangle;
@@ -101,10 +102,13 @@ private:
         if (result == ClipResult::clipped) ++counters_.triangles_clipped;
         // The clipped polygon is convex: a fan from its first vertex.
         for (int i = 1; i + 1 < polygon_.count; ++i) {
-            PreparedPiece piece{{}, object_index, mesh.triangle_material[t], t, result == ClipResult::clipped};
-            if (prepare_piece(mesh, v, tri, {polygon_.vertices[0], polygon_.vertices[std::size_t(i)], polygon_.vertices[std::size_t(i + 1)]},
-                              object.cull_back, piece))
-                out.push_back(piece);
+            // Built in place (a piece is some 500 bytes): kept if it survives culling.
+            PreparedPiece& piece = out.emplace_back();
+            piece.object = object_index, piece.material = mesh.triangle_material[t], piece.triangle = t;
+            piece.clipped = result == ClipResult::clipped;
+            if (!prepare_piece(mesh, v, tri, {polygon_.vertices[0], polygon_.vertices[std::size_t(i)], polygon_.vertices[std::size_t(i + 1)]},
+                               object.cull_back, piece))
+                out.pop_back();
         }
     }
 
@@ -149,6 +153,8 @@ private:
             if (options_.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w
                 s.u_affine = over_w_plane(lambda, u, {1.0, 1.0, 1.0});
                 s.v_affine = over_w_plane(lambda, vv, {1.0, 1.0, 1.0});
+            } else {
+                s.u_affine = s.v_affine = Plane{0.0, 0.0, 0.0};  // copied into SpanTexturing, never used
             }
         }
         for (int axis = 0; axis < 3; ++axis) {

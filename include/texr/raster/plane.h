@@ -4,8 +4,11 @@
 
 namespace texr {
 
+// No default values on purpose: triangle setup builds hundreds of thousands of planes per
+// frame and fills only those a material needs; the others are never read. Write Plane{} for
+// a zero plane.
 struct Plane {
-    double dx = 0.0, dy = 0.0, c = 0.0;
+    double dx, dy, c;
     double at(double x, double y) const { return dx * x + dy * y + c; }
 };
 
