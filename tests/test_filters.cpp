@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "texr/texture/ewa.h"
@@ -218,6 +219,55 @@ TEST_CASE("mip filters at one texel per pixel read the base level like bilinear"
         for (int c = 0; c < 3; ++c) {
             CHECK(got[c] == doctest::Approx(want[c]).epsilon(1e-5));
             CHECK(aniso[c] == doctest::Approx(want[c]).epsilon(1e-5));
+        }
+    }
+}
+
+TEST_CASE("EWA is exact for |u| up to 1e7: periodic for repeat and mirror, edges for clamp") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(300, 40, 17)));
+    const UVDerivatives d = {3.0 / 300, 0.5 / 40, -0.4 / 300, 1.2 / 40};  // a small rotated footprint
+    for (Registration r : {Registration::cell, Registration::node})
+        for (Wrap w : {Wrap::repeat, Wrap::mirror}) {
+            Sampler s;
+            s.wrap_u = s.wrap_v = w, s.registration = r;
+            for (double u : {0.1, 0.5, 0.93}) {
+                int n = 0;
+                const Color4 near_zero = sample_ewa(mip, s, u, 0.3, d, n);
+                const Color4 far = sample_ewa(mip, s, u + 1e7, 0.3, d, n);
+                for (int c = 0; c < 3; ++c) CHECK(far[c] == doctest::Approx(near_zero[c]).epsilon(1e-4));
+            }
+        }
+    // Clamp: far right reads like just right of the image, far left like just left of it.
+    Sampler s;
+    s.wrap_u = s.wrap_v = Wrap::clamp;
+    int n = 0;
+    const Color4 right = sample_ewa(mip, s, 1e7, 0.3, d, n), just_right = sample_ewa(mip, s, 1.5, 0.3, d, n);
+    const Color4 left = sample_ewa(mip, s, -1e7, 0.3, d, n), just_left = sample_ewa(mip, s, -0.5, 0.3, d, n);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(right[c] == doctest::Approx(just_right[c]).epsilon(1e-5));
+        CHECK(left[c] == doctest::Approx(just_left[c]).epsilon(1e-5));
+    }
+}
+
+TEST_CASE("footprint filters stay bounded and finite for huge, infinite and NaN footprints") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(64, 64, 19)));
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    Sampler s;
+    for (const UVDerivatives& d : {UVDerivatives{1e5, 0.0, 0.0, 1e5}, UVDerivatives{1e5, 3e4, -2e4, 7e4},
+                                   UVDerivatives{inf, 0.0, 0.0, 1.0}, UVDerivatives{nan, nan, nan, nan},
+                                   UVDerivatives{1e300, 1e300, 1e300, 1e300}}) {
+        int texels = 0, probes = 0;
+        const Color4 e = sample_ewa(mip, s, 0.3, 0.6, d, texels);
+        CHECK(texels <= 4);  // wider than the coarsest level: that level's average
+        const Color4 a = sample_anisotropic(mip, s, 0.3, 0.6, d, probes);
+        const double lambda = level_of_detail(d, 64, 64);
+        const Color4 t = sample_trilinear(mip, s, 0.3, 0.6, lambda);
+        const Color4 m = sample_mip_nearest(mip, s, 0.3, 0.6, lambda, true);
+        for (int c = 0; c < 4; ++c) {
+            CHECK(std::isfinite(e[c]));
+            CHECK(std::isfinite(a[c]));
+            CHECK(std::isfinite(t[c]));
+            CHECK(std::isfinite(m[c]));
         }
     }
 }

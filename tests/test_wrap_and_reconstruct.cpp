@@ -134,3 +134,56 @@ TEST_CASE("bilinear on a 3x3 texture with every wrap mode") {
         CHECK(grey(sample(img, sampler(Filter::nearest, Wrap::border, Registration::cell), 1.01, 0.5)) == doctest::Approx(9.0));
     }
 }
+
+TEST_CASE("every reconstruction filter is periodic in u with repeat and mirror, up to 1e7, in both registrations") {
+    // The lookup paths themselves (not only the slides' coordinate functions): u and u + k
+    // read the same for whole k with repeat, and for even k with mirror; mirror also reads
+    // u and -u the same.
+    std::vector<float> rgba;
+    for (int i = 0; i < 5 * 3; ++i) {
+        const float value = float((i * 37) % 11);
+        rgba.insert(rgba.end(), {value, value, value, 1.0f});
+    }
+    const Image img = Image::hdr(5, 3, rgba);
+    for (Registration r : {Registration::cell, Registration::node})
+        for (Wrap w : {Wrap::repeat, Wrap::mirror})
+            for (Filter f : {Filter::nearest, Filter::bilinear, Filter::bicubic}) {
+                CAPTURE(int(r));
+                CAPTURE(int(w));
+                const std::string name = filter_name(f);
+                CAPTURE(name);
+                Sampler s = sampler(f, w, r);
+                const auto read = [&](double u, double v) {
+                    return f == Filter::bicubic ? sample_bicubic(img, s, u, v).x : sample(img, s, u, v).x;
+                };
+                for (double u : {0.03, 0.31, 0.5, 0.77, 0.99})
+                    for (double k : {2.0, 250.0, -4.0, 1e7}) {
+                        CHECK(read(u + k, 0.4) == doctest::Approx(read(u, 0.4)).epsilon(1e-4));
+                        if (w == Wrap::mirror) CHECK(read(-u, 0.4) == doctest::Approx(read(u, 0.4)).epsilon(1e-4));
+                    }
+            }
+}
+
+TEST_CASE("bilinear on the 3x3 texture in node registration: texels at 0, 1/2 and 1") {
+    // value = i + 3 j; node registration puts texel i at u = i / 2.
+    const Image img = grey_image(3, 3, {0, 1, 2, 3, 4, 5, 6, 7, 8});
+    const Sampler clamp = sampler(Filter::bilinear, Wrap::clamp, Registration::node);
+    CHECK(grey(sample(img, clamp, 0.0, 0.0)) == doctest::Approx(0.0));
+    CHECK(grey(sample(img, clamp, 0.5, 0.5)) == doctest::Approx(4.0));
+    CHECK(grey(sample(img, clamp, 1.0, 1.0)) == doctest::Approx(8.0));
+    CHECK(grey(sample(img, clamp, 0.25, 0.5)) == doctest::Approx(3.5));  // halfway between texels 0 and 1
+    // Repeat in node registration has period 1 in u: u = 1.25 reads like u = 0.25.
+    const Sampler repeat = sampler(Filter::bilinear, Wrap::repeat, Registration::node);
+    CHECK(grey(sample(img, repeat, 1.25, 0.5)) == doctest::Approx(3.5));
+    // And nearest in node registration rounds to the closest texel: u = 0.3 -> texel 1.
+    CHECK(grey(sample(img, sampler(Filter::nearest, Wrap::clamp, Registration::node), 0.3, 0.0)) == doctest::Approx(1.0));
+}
+
+TEST_CASE("nearest and bilinear with clamp at u = +-1e7 read the right and left edges") {
+    const Image img = grey_image(3, 1, {10, 20, 30});
+    for (Filter f : {Filter::nearest, Filter::bilinear}) {
+        const Sampler s = sampler(f, Wrap::clamp, Registration::cell);
+        CHECK(grey(sample(img, s, 1e7, 0.5)) == doctest::Approx(30.0));
+        CHECK(grey(sample(img, s, -1e7, 0.5)) == doctest::Approx(10.0));
+    }
+}

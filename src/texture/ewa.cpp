@@ -38,10 +38,8 @@ const std::array<float, weight_table_size>& gaussian_weights() {
 // d1, d2 the derivative vectors in the same units.
 Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
                     double d2v, int& texels) {
-    const double w = image.width(), h = image.height();
-    // Into this level's texel lattice (cell registration: texel centres at integers).
-    const double cs = s.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
-    const double ct = s.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
+    const int w = image.width(), h = image.height();
+    const bool node = s.registration == Registration::node;
     d1u *= w, d2u *= w, d1v *= h, d2v *= h;
 
     // Ellipse coefficients, normalised so the boundary is Q = 1.
@@ -54,6 +52,16 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     // Bounding box of the ellipse: |s| <= sqrt(c / det'), |t| <= sqrt(a / det'), det' = a c - b^2/4.
     const double det = a * c - b * b * 0.25;
     const double half_s = std::sqrt(c / det), half_t = std::sqrt(a / det);
+
+    // The centre on this level's lattice (cell: texel centres at integers), with whole periods
+    // removed so it stays small for any u (repeat, mirror); for clamp and border it is kept
+    // within the box's reach of the image, which reads the same texels.
+    const auto centre = [&](double t, int n, double half, Wrap wrap) {
+        const double x = node ? t * (n - 1) : t * n - 0.5;
+        if (wrap == Wrap::repeat || wrap == Wrap::mirror) return reduce_lattice(wrap, x, n, node);
+        return std::clamp(x, -half - 2.0, double(n) + half + 2.0);
+    };
+    const double cs = centre(u, w, half_s, s.wrap_u), ct = centre(v, h, half_t, s.wrap_v);
     const int s0 = int(std::ceil(cs - half_s)), s1 = int(std::floor(cs + half_s));
     const int t0 = int(std::ceil(ct - half_t)), t1 = int(std::floor(ct + half_t));
 
@@ -67,17 +75,17 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     const int width = s1 - s0 + 1;
     const bool tabulated = width <= max_columns;
     if (tabulated)
-        for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, image.width());
+        for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
     for (int it = t0; it <= t1; ++it) {
         const double tt = it - ct;
-        const int row = wrap_index(s.wrap_v, it, image.height());
+        const int row = wrap_index(s.wrap_v, it, h, node);
         double ss = s0 - cs;
         double r2 = a * ss * ss + b * ss * tt + c * tt * tt;
         double step = a * (2.0 * ss + 1.0) + b * tt;
         for (int is = s0; is <= s1; ++is, r2 += step, step += 2.0 * a) {
-            if (r2 >= 1.0 || r2 < 0.0) continue;
+            if (!(r2 >= 0.0 && r2 < 1.0)) continue;  // outside the ellipse (or NaN)
             const float weight = weights[std::size_t(r2 * (weight_table_size - 1))];
-            const int column = tabulated ? columns[is - s0] : wrap_index(s.wrap_u, is, image.width());
+            const int column = tabulated ? columns[is - s0] : wrap_index(s.wrap_u, is, w, node);
             sum += weight * ((column < 0 || row < 0) ? s.border : image.texel(column, row));
             weight_sum += weight;
             ++texels;
@@ -96,9 +104,9 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
     double major = std::sqrt(d1u * d1u + d1v * d1v), minor = std::sqrt(d2u * d2u + d2v * d2v);
     if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
-    if (!(major > 0.0)) {
+    if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
-        return sample_bilinear(mip.base(), s, u, v);
+        return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
     // reading an unbounded number of texels).
@@ -111,9 +119,15 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
         }
         minor = target;
     }
-    // Level where the minor axis spans about one texel, blended with the next one.
+    // Level where the minor axis spans about one texel, blended with the next one. A
+    // footprint wider than the coarsest level reads that level's average, as the ellipse
+    // there would cover the whole image (and cost without bound).
     const int last = mip.level_count() - 1;
-    const double lambda = std::clamp(std::log2(std::max(minor, 1e-300)), 0.0, double(last));
+    const double lambda = std::max(0.0, std::log2(std::max(minor, 1e-300)));
+    if (lambda >= double(last)) {
+        texels = 4;
+        return sample_bilinear(mip.level(last), s, u, v);
+    }
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
     const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;

@@ -24,16 +24,19 @@ double level_of_detail(const UVDerivatives& d, int width, int height) {
 }
 
 Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    // OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1.
-    int level = lambda <= 0.5 ? 0 : int(std::ceil(lambda + 0.5)) - 1;
-    level = std::min(level, mip.level_count() - 1);
+    // OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1. An infinite
+    // footprint reads the coarsest level; NaN reads the base.
+    const int last = mip.level_count() - 1;
+    int level = 0;
+    if (lambda >= double(last)) level = last;
+    else if (lambda > 0.5) level = std::min(last, int(std::ceil(lambda + 0.5)) - 1);
     const Image& image = mip.level(level);
     return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
 }
 
 Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     const int last = mip.level_count() - 1;
-    if (lambda <= 0.0) return sample_bilinear(mip.base(), s, u, v);
+    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
     if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
@@ -46,9 +49,9 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     const double w = mip.base().width(), h = mip.base().height();
     const double rho_x = std::sqrt(squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(squared_texels(d.dudy, d.dvdy, w, h));
     const double major = std::max(rho_x, rho_y), minor = std::min(rho_x, rho_y);
-    if (!(major > 0.0)) {
+    if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         probes = 1;
-        return sample_bilinear(mip.base(), s, u, v);
+        return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
     const double ratio = minor > 0.0 ? major / minor : double(s.max_anisotropy);
     const int n = std::max(1, int(std::ceil(std::min(ratio, double(s.max_anisotropy)) - 1e-9)));

@@ -12,9 +12,10 @@ namespace {
 
 // Texture coordinate -> lattice coordinate (texels), reduced by whole periods so it fits an int.
 inline double lattice(Registration registration, Wrap wrap, double t, int n, double inv_n) {
-    const double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
+    const bool node = registration == Registration::node;
+    const double x = node ? t * (n - 1) : t * n - 0.5;
     if (x >= 0.0 && x < double(n - 1)) return x;  // the common case: nothing to reduce
-    return reduce_lattice(wrap, x, n, inv_n);
+    return reduce_lattice(wrap, x, n, inv_n, node);
 }
 
 }  // namespace
@@ -41,8 +42,8 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
     for (int k = 0; k < 4; ++k) {
         wu[k] = mitchell_netravali(float(k - 1) - fu, sampler.cubic_b, sampler.cubic_c);
         wv[k] = mitchell_netravali(float(k - 1) - fv, sampler.cubic_b, sampler.cubic_c);
-        iu[k] = wrap_index(sampler.wrap_u, int(x0) + k - 1, w);
-        iv[k] = wrap_index(sampler.wrap_v, int(y0) + k - 1, h);
+        iu[k] = wrap_index(sampler.wrap_u, int(x0) + k - 1, w, sampler.registration == Registration::node);
+        iv[k] = wrap_index(sampler.wrap_v, int(y0) + k - 1, h, sampler.registration == Registration::node);
     }
     Color4 sum(0.0f);
     for (int b = 0; b < 4; ++b) {

@@ -46,21 +46,29 @@ inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i,
 }  // namespace reconstruct_detail
 
 inline Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
-    return reconstruct_detail::texel_or_border(image, sampler, wrap_index(sampler.wrap_u, i, image.width()),
-                           wrap_index(sampler.wrap_v, j, image.height()));
+    const bool node = sampler.registration == Registration::node;
+    return reconstruct_detail::texel_or_border(image, sampler, wrap_index(sampler.wrap_u, i, image.width(), node),
+                                               wrap_index(sampler.wrap_v, j, image.height(), node));
 }
 
 namespace reconstruct_detail {
 
 // The texel nearest to t along one axis, wrapped (-1: border).
 inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
-    double x = registration == Registration::cell ? t * n : t * (n - 1) + 0.5;
-    if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
+    const bool node = registration == Registration::node;
+    // Node registration: reduce the lattice position first, then round to the nearest node,
+    // so u and u + 1 read the same texel (texel n - 1 sits at u = 1, as the slide has it).
+    double x = node ? t * (n - 1) : t * n;
+    if (!(x >= 0.0 && x < double(node ? n - 1 : n))) x = reduce_lattice(wrap, x, n, inv_n, node);
+    if (node) {
+        if (wrap == Wrap::border && !(t >= 0.0 && t <= 1.0)) return -1;  // the slide's border test
+        x += 0.5;
+    }
     const int l = int(fast_floor(x));
     // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
     if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
-    if (wrap == Wrap::repeat && l < n) return l;  // reduced into [0, n) already
-    return wrap_index(wrap, l, n);
+    if (wrap == Wrap::repeat && !node && l < n) return l;  // reduced into [0, n) already
+    return wrap_index(wrap, l, n, node);
 }
 
 }  // namespace reconstruct_detail
@@ -82,17 +90,18 @@ struct AxisTaps {
 };
 
 inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
-    double x = registration == Registration::cell ? t * n - 0.5 : t * (n - 1);
-    if (wrap == Wrap::repeat) {
+    const bool node = registration == Registration::node;
+    double x = node ? t * (n - 1) : t * n - 0.5;
+    if (wrap == Wrap::repeat && !node) {
         // Fast path: reduce into [0, n) once; the right neighbour of n - 1 is 0.
         if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
         const int i0 = std::min(int(x), n - 1);  // x >= 0: truncation is floor
         return {i0, i0 + 1 < n ? i0 + 1 : 0, float(x - i0)};
     }
-    x = reduce_lattice(wrap, x, n, inv_n);
+    x = reduce_lattice(wrap, x, n, inv_n, node);
     const double x0 = fast_floor(x);
     const int i = int(x0);
-    return {wrap_index(wrap, i, n), wrap_index(wrap, i + 1, n), float(x - x0)};
+    return {wrap_index(wrap, i, n, node), wrap_index(wrap, i + 1, n, node), float(x - x0)};
 }
 
 }  // namespace reconstruct_detail
@@ -108,6 +117,5 @@ inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double
                            b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
     return column0 + a.f * (column1 - column0);
 }
-
 
 }  // namespace texr

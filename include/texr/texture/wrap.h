@@ -44,7 +44,28 @@ inline int wrap_clamp_index(int i, int n) { return std::clamp(i, 0, n - 1); }
 // Border: -1 marks "use the border colour".
 inline int wrap_border_index(int i, int n) { return (i < 0 || i >= n) ? -1 : i; }
 
-inline int wrap_index(Wrap mode, int i, int n) {
+// Node registration (texel 0 at u = 0, texel n - 1 at u = 1) repeats every n - 1 texels:
+// texel n - 1 of one period is texel 0 of the next. Indices inside the image stay as they
+// are; outside it, repeat takes them modulo n - 1 and mirror reflects at 0 and n - 1.
+inline int wrap_node_index(Wrap mode, int i, int n) {
+    if (i >= 0 && i < n) return i;
+    if (n == 1) return mode == Wrap::border ? -1 : 0;
+    const int period = n - 1;
+    switch (mode) {
+        case Wrap::repeat: return floor_mod(i, period);
+        case Wrap::mirror: {
+            const int k = floor_mod(i, 2 * period);
+            return k <= period ? k : 2 * period - k;
+        }
+        case Wrap::clamp: return wrap_clamp_index(i, n);
+        case Wrap::border: return -1;
+    }
+    return 0;
+}
+
+// `node`: the sampler uses node registration (see sampler.h).
+inline int wrap_index(Wrap mode, int i, int n, bool node = false) {
+    if (node) return wrap_node_index(mode, i, n);
     switch (mode) {
         case Wrap::repeat: return wrap_repeat_index(i, n);
         case Wrap::mirror: return wrap_mirror_index(i, n);
@@ -61,17 +82,20 @@ inline double fast_floor(double x) {
 }
 
 // Brings a lattice coordinate x (in texels) into a small range that the mode treats the
-// same: whole periods (n texels for repeat, 2n for mirror) are removed; for clamp and
-// border everything beyond two texels outside the image behaves like two texels outside.
-// inv_n = 1 / n (the caller keeps it, so no division per lookup). Coordinates beyond 1e15
-// texels, NaN included, carry no fraction any more and are read as 0.
-inline double reduce_lattice(Wrap mode, double x, int n, double inv_n) {
+// same: whole periods (p = n texels for repeat, 2n for mirror; n - 1 and 2(n - 1) with node
+// registration) are removed; for clamp and border everything beyond two texels outside the
+// image behaves like two texels outside. inv_p = 1 / p for repeat (the caller keeps it, so
+// no division per lookup). Coordinates beyond 1e15 texels, NaN included, carry no fraction
+// any more and are read as 0.
+inline double reduce_lattice(Wrap mode, double x, int n, double inv_n, bool node = false) {
     switch (mode) {
         case Wrap::repeat:
         case Wrap::mirror: {
             if (!(std::fabs(x) < 1e15)) return 0.0;
-            const double period = mode == Wrap::repeat ? double(n) : 2.0 * double(n);
-            const double inv_period = mode == Wrap::repeat ? inv_n : 0.5 * inv_n;
+            const int p = node ? std::max(1, n - 1) : n;
+            const double inv_p = node ? 1.0 / p : inv_n;
+            const double period = mode == Wrap::repeat ? double(p) : 2.0 * double(p);
+            const double inv_period = mode == Wrap::repeat ? inv_p : 0.5 * inv_p;
             double r = x - period * fast_floor(x * inv_period);
             // x * inv_period is rounded: put r back into [0, period) if it slipped out.
             if (r < 0.0) r += period;
@@ -85,6 +109,8 @@ inline double reduce_lattice(Wrap mode, double x, int n, double inv_n) {
     }
     return x;
 }
-inline double reduce_lattice(Wrap mode, double x, int n) { return reduce_lattice(mode, x, n, 1.0 / n); }
+inline double reduce_lattice(Wrap mode, double x, int n, bool node = false) {
+    return reduce_lattice(mode, x, n, 1.0 / n, node);
+}
 
 }  // namespace texr
