@@ -35,6 +35,9 @@ void clip_against(int plane, const GuardBand& band, const ClipPolygon& in, ClipP
         const ClipVertex& b = in.vertices[(i + 1) % in.count];
         const double da = plane_distance(plane, a.position, band);
         const double db = plane_distance(plane, b.position, band);
+        // Each pass adds at most one vertex in exact arithmetic; the cap keeps rounding on a
+        // nearly degenerate polygon from ever writing past the array.
+        if (out.count + 2 > ClipPolygon::max_vertices) break;
         if (da >= 0.0) out.vertices[out.count++] = a;
         if ((da >= 0.0) != (db >= 0.0)) {
             // The crossing point, computed from the inside vertex towards the outside one

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <thread>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -78,18 +79,26 @@ public:
     explicit Barrier(int count) : count_(count) {}
     void wait() {
         if (count_ == 1) return;
+        if (abandoned_.load(std::memory_order_acquire)) throw Abandoned{};
         const int generation = generation_.load(std::memory_order_acquire);
         if (arrived_.fetch_add(1, std::memory_order_acq_rel) == count_ - 1) {
             arrived_.store(0, std::memory_order_relaxed);
             generation_.fetch_add(1, std::memory_order_release);
             return;
         }
-        while (generation_.load(std::memory_order_acquire) == generation) std::this_thread::yield();
+        while (generation_.load(std::memory_order_acquire) == generation) {
+            if (abandoned_.load(std::memory_order_acquire)) throw Abandoned{};
+            std::this_thread::yield();
+        }
     }
+    // A worker failed: release everyone waiting (they stop with Abandoned).
+    void abandon() { abandoned_.store(true, std::memory_order_release); }
+    struct Abandoned {};
 
 private:
     const int count_;
     std::atomic<int> arrived_{0}, generation_{0};
+    std::atomic<bool> abandoned_{false};
 };
 
 int thread_count(int requested) {
@@ -162,10 +171,25 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
             }
         }
     };
+    // An exception in a worker (out of memory while building mip levels, say) must reach the
+    // caller, not terminate the program; the other workers must not wait for it forever.
+    std::vector<std::exception_ptr> failures(static_cast<std::size_t>(workers));
+    auto guarded = [&](int w) {
+        try {
+            work(w);
+        } catch (const Barrier::Abandoned&) {
+            // another worker failed; its exception is the one reported
+        } catch (...) {
+            failures[std::size_t(w)] = std::current_exception();
+            barrier.abandon();
+        }
+    };
     std::vector<std::thread> threads;
-    for (int t = 1; t < workers; ++t) threads.emplace_back(work, t);
-    work(0);
+    for (int t = 1; t < workers; ++t) threads.emplace_back(guarded, t);
+    guarded(0);
     for (std::thread& t : threads) t.join();
+    for (const std::exception_ptr& e : failures)
+        if (e) std::rethrow_exception(e);
     for (const RenderStats& c : counts) stats.add_counters(c);
     stats.seconds_vertex += vertex_seconds;
     stats.seconds_raster += seconds_since(start) - vertex_seconds;

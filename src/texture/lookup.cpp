@@ -20,9 +20,11 @@ Color4 lookup_footprint(const Texture& t, double u, double v, const UVDerivative
         case Filter::bilinear_mip_nearest:
             texels += 4;
             return sample_mip_nearest(mip, s, u, v, level_of_detail(d, mip.base().width(), mip.base().height()), true);
-        case Filter::trilinear:
-            texels += 8;
-            return sample_trilinear(mip, s, u, v, level_of_detail(d, mip.base().width(), mip.base().height()));
+        case Filter::trilinear: {
+            const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
+            texels += (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;  // one level or two
+            return sample_trilinear(mip, s, u, v, lambda);
+        }
         case Filter::anisotropic: {
             int probes = 0;
             const Color4 c = sample_anisotropic(mip, s, u, v, d, probes);
