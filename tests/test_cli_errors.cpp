@@ -148,7 +148,7 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     r = run_texr("frobnicate");
     CHECK(r.exit_code == 2);
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.jpg");
-    CHECK(r.exit_code != 0);
+    CHECK(r.exit_code == 2);
     CHECK(r.output.find("must end in .png or .ppm") != std::string::npos);
     CHECK_FALSE(file_exists(dir + "/out.png"));
     CHECK_FALSE(file_exists(dir + "/out.jpg"));
@@ -160,7 +160,15 @@ TEST_CASE("help documents every option") {
     CHECK(r.output.find("render") != std::string::npos);
     r = run_texr("render --help");
     CHECK(r.exit_code == 0);
-    for (const char* option : {"-o", "--size", "--repeat", "--stats"}) CHECK(r.output.find(option) != std::string::npos);
+    for (const char* option : {"-o", "--output", "--size", "--repeat", "--threads", "--spp", "--span", "--span-tolerance", "--stats", "--help"})
+        CHECK(r.output.find(option) != std::string::npos);
+    r = run_texr("bench --help");
+    CHECK(r.exit_code == 0);
+    for (const char* option : {"filters", "spans", "threads", "scale", "--size", "--repeat", "--spp", "--threads", "--models", "--out", "--quick"})
+        CHECK(r.output.find(option) != std::string::npos);
+    r = run_texr("explain --help");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("--size") != std::string::npos);
 }
 
 TEST_CASE("--stats and --repeat report counters and a median frame time") {
@@ -209,4 +217,48 @@ TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by ha
     const RunResult outside = run_texr("explain " + dir + "/scene.txt 64 0");
     CHECK(outside.exit_code == 2);
     CHECK(outside.output.find("X must be a pixel index from 0 to 63") != std::string::npos);
+}
+
+TEST_CASE("more command-line and scene mistakes: empty -o, padded --size, a folder, a comment ending in a backslash") {
+    const std::string dir = scratch_folder("more");
+    write_text(dir + "/scene.txt", good_scene);
+    CHECK(run_texr("render " + dir + "/scene.txt -o ''").exit_code == 2);
+    CHECK(run_texr("render " + dir + "/scene.txt --size ' 8x8' -o " + dir + "/a.png").exit_code == 2);
+    CHECK(run_texr("render " + dir + "/scene.txt --size +8x8 -o " + dir + "/a.png").exit_code == 2);
+    RunResult r = run_texr("render " + dir + " -o " + dir + "/a.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("is a folder, not a scene file") != std::string::npos);
+    // A '\\' at the end of a comment does not swallow the next line.
+    write_text(dir + "/comment.txt",
+               "material red color 1 0 0  # a note ending in a backslash \\\n"
+               "triangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n");  // would be swallowed
+    r = run_texr("render " + dir + "/comment.txt -o " + dir + "/c.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("an OBJ usemtl name picks the scene material of that name, with or without a .mtl file") {
+    const std::string dir = scratch_folder("usemtl");
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nv 1 1 0\nusemtl red\nf 1 2 3\nusemtl blue\nf 2 4 3\n");
+    write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 3\nmaterial red color 1 0 0\nmaterial blue color 0 0 1\nmesh t.obj\n");
+    // Pixel (2, 5) lies in the first triangle (lower left), pixel (6, 2) in the second.
+    RunResult r = run_texr("explain " + dir + "/scene.txt 2 5");
+    CAPTURE(r.output);
+    CHECK(r.output.find("material 'red'") != std::string::npos);
+    r = run_texr("explain " + dir + "/scene.txt 5 2");
+    CHECK(r.output.find("material 'blue'") != std::string::npos);
+}
+
+TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line once") {
+    const std::string dir = scratch_folder("mapkd");
+    write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3\n");
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd missing.png\n");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:2: OBJ material 'paint' (map_Kd in its .mtl): ") != std::string::npos);
+    CHECK(r.output.find("missing.png: cannot open image file") != std::string::npos);
+    CHECK(r.output.find("scene.txt:2: texr") == std::string::npos);
+    CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
 }

@@ -56,10 +56,10 @@ const char* render_help =
     "                      (each side 1..16384, at most 67108864 pixels)\n"
     "  --repeat N          render the frame N times and print the median frame time\n"
     "                      (default 1)\n"
-    "  --threads N         worker threads (default: one per core); the frame is the\n"
-    "                      same bytes for every N\n"
-    "  --spp N             texture ground truth: N x N samples per pixel, each a\n"
-    "                      bilinear lookup at its exact (u, v), box-filtered\n"
+    "  --threads N         worker threads, 1..256 (default: one per core); the frame\n"
+    "                      is the same bytes for every N\n"
+    "  --spp N             texture ground truth, 1..64: N x N samples per pixel, each\n"
+    "                      a bilinear lookup at its exact (u, v), box-filtered\n"
     "  --span MODE         how (u, v) are computed along spans: exact, incremental\n"
     "                      (default), affine8, affine16, affine32, affine (no\n"
     "                      perspective: wrong, for contrast) or adaptive\n"
@@ -102,6 +102,11 @@ void parse_size(const std::string& text, RenderArguments& args) {
     const auto x = text.find('x');
     if (x == std::string::npos) throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
     const std::string w = text.substr(0, x), h = text.substr(x + 1);
+    const auto digits = [](const std::string& part) {
+        return !part.empty() && part.size() <= 9 &&
+               std::all_of(part.begin(), part.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+    };
+    if (!digits(w) || !digits(h)) throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
     long long width = 0, height = 0;
     try {
         std::size_t used_w = 0, used_h = 0;
@@ -142,13 +147,14 @@ std::string default_output(const std::string& scene) {
 
 RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     RenderArguments args;
+    bool output_given = false;
     for (std::size_t i = 0; i < argv.size(); ++i) {
         const std::string& a = argv[i];
         auto value = [&]() -> const std::string& {
             if (i + 1 >= argv.size()) throw UsageError{a + " needs a value"};
             return argv[++i];
         };
-        if (a == "-o" || a == "--output") args.output = value();
+        if (a == "-o" || a == "--output") args.output = value(), output_given = true;
         else if (a == "--size") parse_size(value(), args);
         else if (a == "--repeat") args.repeat = parse_positive(value(), "--repeat");
         else if (a == "--threads") args.threads = parse_positive(value(), "--threads");
@@ -169,8 +175,13 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
         else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
     }
     if (args.scene.empty()) throw UsageError{"texr render needs a scene file"};
-    if (args.output.empty()) args.output = default_output(args.scene);
-    texr::frame_format_for(args.output);  // reject a bad extension before any work
+    if (!output_given) args.output = default_output(args.scene);
+    if (args.output.empty()) throw UsageError{"-o needs a file name"};
+    try {
+        texr::frame_format_for(args.output);  // reject a bad extension before any work
+    } catch (const texr::InputError& e) {
+        throw UsageError{e.what()};
+    }
     return args;
 }
 

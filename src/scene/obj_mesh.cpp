@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <tuple>
 
 #include "texr/core/error.h"
@@ -25,6 +26,28 @@ std::string first_line(const std::string& text) {
     return end == std::string::npos ? text : text.substr(0, end);
 }
 
+// The `usemtl` name in force for each triangle, in file order (a face of k vertices is k - 2
+// triangles, as tinyobjloader triangulates it).
+std::vector<std::string> usemtl_per_triangle(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> names;
+    std::string line, current;
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "usemtl") {
+            std::getline(words >> std::ws, current);
+            while (!current.empty() && (current.back() == '\r' || current.back() == ' ')) current.pop_back();
+        } else if (keyword == "f") {
+            std::size_t corners = 0;
+            for (std::string corner; words >> corner && corner[0] != '#';) ++corners;
+            for (std::size_t k = 2; k < corners; ++k) names.push_back(current);
+        }
+    }
+    return names;
+}
+
 }  // namespace
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
@@ -40,22 +63,31 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     const auto& obj_materials = reader.GetMaterials();
 
-    // OBJ material id (or -1) -> scene material index, resolved on first use.
-    std::map<int, int> material_of;
-    auto scene_material = [&](int id) {
-        auto it = material_of.find(id);
+    // Each triangle's material, by name: the name its face's `usemtl` gave, whether or not
+    // a .mtl file describes it (tinyobjloader forgets names it found no .mtl entry for).
+    const std::vector<std::string> names = usemtl_per_triangle(path);
+    std::map<std::string, const tinyobj::material_t*> described;
+    for (const tinyobj::material_t& m : obj_materials) described[m.name] = &m;
+    std::map<std::string, int> material_of;  // name -> scene material index, resolved on first use
+    auto scene_material = [&](const std::string& name) {
+        auto it = material_of.find(name);
         if (it != material_of.end()) return it->second;
         ObjMaterialInfo info;
-        if (id >= 0 && id < int(obj_materials.size())) {
-            const tinyobj::material_t& m = obj_materials[std::size_t(id)];
-            info.name = m.name;
+        info.name = name;
+        auto found = described.find(name);
+        if (!name.empty() && found != described.end()) {
+            const tinyobj::material_t& m = *found->second;
             info.diffuse = {float(m.diffuse[0]), float(m.diffuse[1]), float(m.diffuse[2])};
-            if (!m.diffuse_texname.empty()) info.diffuse_texture = folder_of(path) + m.diffuse_texname;
+            if (!m.diffuse_texname.empty())  // relative to the OBJ's folder unless absolute
+                info.diffuse_texture = m.diffuse_texname[0] == '/' ? m.diffuse_texname : folder_of(path) + m.diffuse_texname;
         }
         const int index = resolve(info);
-        material_of.emplace(id, index);
+        material_of.emplace(name, index);
         return index;
     };
+
+    std::size_t total_triangles = 0;
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) total_triangles += shape.mesh.num_face_vertices.size();
 
     Mesh mesh;
     mesh.source = path;
@@ -102,8 +134,14 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             mesh.has_uv = mesh.has_uv && face_has_uv;
             mesh.has_normals = mesh.has_normals && face_has_normal;
             mesh.triangles.push_back(triangle);
-            const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
-            mesh.triangle_material.push_back(scene_material(id));
+            std::string name;
+            if (names.size() == total_triangles) {
+                name = names[mesh.triangles.size() - 1];
+            } else {  // faces we could not count the same way: fall back to tinyobjloader's ids
+                const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
+                if (id >= 0 && id < int(obj_materials.size())) name = obj_materials[std::size_t(id)].name;
+            }
+            mesh.triangle_material.push_back(scene_material(name));
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <sys/stat.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -44,6 +45,16 @@ std::vector<std::string> tokenize(const std::string& text, const std::string& fi
     return tokens;
 }
 
+// The part of a raw line before a '#' that is outside double quotes.
+std::string without_comment(const std::string& raw) {
+    bool quoted = false;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        if (raw[i] == '"') quoted = !quoted;
+        else if (raw[i] == '#' && !quoted) return raw.substr(0, i);
+    }
+    return raw;
+}
+
 std::vector<Line> read_lines(std::istream& in, const std::string& file) {
     std::vector<Line> lines;
     std::string raw, pending;
@@ -52,6 +63,8 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
         ++number;
         if (pending.empty()) start = number;
         if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+        raw = without_comment(raw);  // a '\\' inside a comment does not continue the line
+        while (!raw.empty() && (raw.back() == ' ' || raw.back() == '\t')) raw.pop_back();
         const bool continued = !raw.empty() && raw.back() == '\\';
         if (continued) raw.pop_back();
         pending += raw + " ";
@@ -238,7 +251,8 @@ private:
         scene_.textures.push_back(std::move(t));
     }
 
-    std::shared_ptr<const Image> image(Cursor& c, const std::string& path, ColorSpace space) {
+    // `context` says where the path came from when it is not this line ("cube.mtl map_Kd: ").
+    std::shared_ptr<const Image> image(Cursor& c, const std::string& path, ColorSpace space, const std::string& context = "") {
         const std::string key = path + (space == ColorSpace::srgb ? "|srgb" : "|linear");
         auto it = images_.find(key);
         if (it != images_.end()) return it->second;
@@ -247,7 +261,7 @@ private:
             images_[key] = loaded;
             return loaded;
         } catch (const InputError& e) {
-            c.fail(e.what());
+            c.fail(context + e.what());
         }
     }
 
@@ -354,7 +368,7 @@ private:
                 Texture t;
                 t.name = info.name + ".map_Kd";
                 t.path = info.diffuse_texture;
-                t.image = image(c, t.path, ColorSpace::srgb);
+                t.image = image(c, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
                 t.mipmap = mipmap(t.image);
                 m.texture = int(scene_.textures.size());
                 scene_.textures.push_back(std::move(t));
@@ -367,6 +381,7 @@ private:
         try {
             mesh = load_obj(path, resolve);
         } catch (const InputError& e) {
+            if (e.file() == file_) throw;  // already names this line (from the material resolver)
             c.fail(e.what());
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
@@ -455,6 +470,8 @@ Scene parse_scene(std::istream& in, const std::string& path) {
 }
 
 Scene load_scene(const std::string& path) {
+    struct stat info {};
+    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) throw InputError(path, 0, "is a folder, not a scene file");
     std::ifstream in(path);
     if (!in) throw InputError(path, 0, "cannot open scene file");
     return parse_scene(in, path);
