@@ -262,3 +262,19 @@ TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line o
     CHECK(r.output.find("scene.txt:2: texr") == std::string::npos);
     CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
 }
+
+TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {
+    const std::string dir = scratch_folder("bench");
+    const RunResult r = run_texr("bench --quick --out " + dir);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    for (const char* name : {"filters", "spans", "threads", "scale"})
+        for (const char* ext : {".csv", ".md", ".svg"}) CHECK(file_exists(dir + "/" + name + ext));
+    CHECK(file_exists(dir + "/index.md"));
+    // Every CSV row names the scene, size, threads, filter and mode (issue 4).
+    std::ifstream csv(dir + "/spans.csv");
+    std::string header;
+    std::getline(csv, header);
+    for (const char* column : {"scene", "width", "height", "threads", "filter", "mode"}) CHECK(header.find(column) != std::string::npos);
+    CHECK(run_texr("bench --size 100000x100000 --out " + dir).exit_code == 2);
+}

@@ -34,7 +34,10 @@ const char* bench_help =
     "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
     "                  (default: this build's source models/)\n"
     "  --out DIR       output folder (default out/bench)\n"
-    "  --quick         1 timed frame, 4x4 ground truth, 256x192: a smoke test\n";
+    "  --quick         a smoke test: 1 timed frame, 4x4 ground truth, 256x192, and\n"
+    "                  scale at its smallest sizes\n"
+    "\n"
+    "scale uses its own frame sizes (it varies them); --size applies to the others.\n";
 
 namespace {
 
@@ -67,13 +70,15 @@ int run_bench(const std::vector<std::string>& args) {
             const auto x = v.find('x');
             if (x == std::string::npos) throw std::invalid_argument("--size expects WxH, got '" + v + "'");
             o.width = parse_int(v.substr(0, x), "--size"), o.height = parse_int(v.substr(x + 1), "--size");
-            if (o.width > max_image_side || o.height > max_image_side) throw std::invalid_argument("--size is out of range");
+            if (o.width > max_image_side || o.height > max_image_side || double(o.width) * o.height > double(max_image_pixels))
+                throw std::invalid_argument("--size is out of range (each side 1.." + std::to_string(max_image_side) +
+                                            ", at most " + std::to_string(max_image_pixels) + " pixels)");
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
         else if (a == "--threads") o.threads = parse_int(value(), "--threads"), o.threads_given = true;
         else if (a == "--spp") o.spp = parse_int(value(), "--spp");
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
-        else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192;
+        else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192, o.quick = true;
         else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") names.push_back(a);
         else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
     }

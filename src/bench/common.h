@@ -20,6 +20,7 @@ inline double ms_since(Clock::time_point t) { return std::chrono::duration<doubl
 struct BenchOptions {
     int width = 1024, height = 768, repeat = 7, spp = 16, threads = 1;
     bool threads_given = false;
+    bool quick = false;  // a smoke test: small sizes everywhere
     std::string models = TEXR_MODELS_DIR, out = "out/bench";
 };
 
