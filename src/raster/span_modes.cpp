@@ -69,6 +69,15 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
                 length = std::max(1, std::min(length - 1, int(fit)));
             }
         }
+        if (length <= 1) {
+            // Where the bound allows no interpolation at all (near a horizon), sizing sub-spans
+            // costs more than it saves: take the next 8 pixels exactly.
+            const int b = std::min(last, a + 8);
+            for (int x = a + 1; x <= b; ++x) exact_at(h, x, yc, u[x - x0], v[x - x0]);
+            divides += b - a;
+            a = b;
+            continue;
+        }
         const int b = a + length;
         linear_between(h, yc, x0, a, b, u, v);
         ++divides;
