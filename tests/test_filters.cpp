@@ -206,6 +206,31 @@ TEST_CASE("at strong minification of white noise every mipmapped filter approach
     }
 }
 
+TEST_CASE("at moderate minification of white noise the mip filters average it") {
+    // 20 texels per pixel on a 256^2 noise image: lambda = log2(20) = 4.3, so the filters read
+    // levels 4 and 5 (16^2 and 8^2), each texel the mean of 256 or more base texels; their
+    // standard deviation is under 73.6 / 16 = 4.6 levels of 255 around the mean (~128).
+    std::mt19937_64 rng(23);
+    std::vector<std::uint8_t> rgba(256 * 256 * 4);
+    for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = (i % 4 == 3) ? 255 : std::uint8_t(rng() % 256);
+    const MipMap mip(std::make_shared<Image>(Image::ldr(256, 256, ColorSpace::linear, rgba)));
+    const Color4 mean = mean_of(mip.base());
+    Sampler s;
+    const UVDerivatives d = rotated(20.0, 30.0, 256);
+    const double lambda = level_of_detail(d, 256, 256);
+    CHECK(lambda == doctest::Approx(std::log2(20.0)));
+    std::uniform_real_distribution<double> coordinate(0.0, 1.0);
+    int bilinear_outliers = 0;
+    for (int k = 0; k < 20; ++k) {
+        const double u = coordinate(rng), v = coordinate(rng);
+        for (const Color4& r : {sample_mip_nearest(mip, s, u, v, lambda, true), sample_trilinear(mip, s, u, v, lambda)})
+            for (int c = 0; c < 3; ++c) CHECK(std::fabs(r[c] - mean[c]) < 5.0f * 4.6f / 255.0f);  // 5 sigma
+        // The base level alone is far noisier: the same bound fails for plain bilinear.
+        bilinear_outliers += std::fabs(sample_bilinear(mip.base(), s, u, v).x - mean.x) >= 5.0f * 4.6f / 255.0f;
+    }
+    CHECK(bilinear_outliers > 5);
+}
+
 TEST_CASE("mip filters at one texel per pixel read the base level like bilinear") {
     const MipMap mip(std::make_shared<Image>(random_hdr(32, 32, 8)));
     Sampler s;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "texr/texture/minify.h"
+#include "texr/texture/wrap.h"
 
 namespace texr {
 
@@ -78,6 +79,20 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         out += "\n5. Texture '" + t.name + "' (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
                filter_name(t.sampler.filter) + ", wrap " + wrap_name(t.sampler.wrap_u) + "/" + wrap_name(t.sampler.wrap_v) +
                ", " + (t.sampler.registration == Registration::cell ? "cell" : "node") + " registration):\n";
+        const auto wrapped = [](Wrap mode, double c) {
+            switch (mode) {
+                case Wrap::repeat: return wrap_repeat(c);
+                case Wrap::mirror: return wrap_mirror(c);
+                case Wrap::clamp: return wrap_clamp(c);
+                case Wrap::border: return c;
+            }
+            return c;
+        };
+        out += format("    the wrap mode's coordinate (the slides' form): t_u = %.6f, t_v = %.6f", wrapped(t.sampler.wrap_u, u),
+                      wrapped(t.sampler.wrap_v, v)) +
+               ((t.sampler.wrap_u == Wrap::border && outside_border(u)) || (t.sampler.wrap_v == Wrap::border && outside_border(v))
+                    ? " (outside [0, 1]: the border colour)\n"
+                    : "\n");
         const double lx = t.sampler.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
         const double ly = t.sampler.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
         out += format("    lattice coordinates (texels, before wrapping): x = %.4f, y = %.4f\n", lx, ly);
