@@ -28,7 +28,7 @@ public:
     std::size_t bytes() const { return texels_8_.size() + texels_f_.size() * sizeof(float); }
 
     // Linear RGBA of texel (i, j); i in [0, width), j in [0, height).
-    Color4 texel(int i, int j) const {
+    [[gnu::always_inline]] Color4 texel(int i, int j) const {
         const std::size_t k = (std::size_t(j) * std::size_t(width_) + std::size_t(i)) * 4;
         if (hdr_) return {texels_f_[k], texels_f_[k + 1], texels_f_[k + 2], texels_f_[k + 3]};
         const std::uint8_t* t = &texels_8_[k];

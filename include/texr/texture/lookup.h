@@ -14,7 +14,7 @@ Color4 lookup_footprint(const Texture& texture, double u, double v, const UVDeri
 
 // (u, v) and their exact screen derivatives (ignored by filters without a footprint).
 // Adds the number of texels read to `texels`. Nearest and bilinear are compiled in place.
-inline Color4 lookup(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
+[[gnu::always_inline]] inline Color4 lookup(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
     switch (t.sampler.filter) {
         case Filter::nearest: texels += 1; return sample_nearest(*t.image, t.sampler, u, v);
         case Filter::bilinear: texels += 4; return sample_bilinear(*t.image, t.sampler, u, v);

@@ -39,7 +39,7 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
 // compiles them in place ------------------------------------------------------------------
 namespace reconstruct_detail {
 
-inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
+[[gnu::always_inline]] inline Color4 texel_or_border(const Image& image, const Sampler& sampler, int i, int j) {
     return (i < 0 || j < 0) ? sampler.border : image.texel(i, j);
 }
 
@@ -54,7 +54,7 @@ inline Color4 fetch(const Image& image, const Sampler& sampler, int i, int j) {
 namespace reconstruct_detail {
 
 // The texel nearest to t along one axis, wrapped (-1: border).
-inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+[[gnu::always_inline]] inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
     // Node registration: reduce the lattice position first, then round to the nearest node,
     // so u and u + 1 read the same texel (texel n - 1 sits at u = 1, as the slide has it).
@@ -73,7 +73,7 @@ inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, do
 
 }  // namespace reconstruct_detail
 
-inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
+[[gnu::always_inline]] inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
     using namespace reconstruct_detail;
     const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
     const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
@@ -89,7 +89,7 @@ struct AxisTaps {
     float f;
 };
 
-inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+[[gnu::always_inline]] inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
     double x = node ? t * (n - 1) : t * n - 0.5;
     if (wrap == Wrap::repeat && !node) {
@@ -106,7 +106,7 @@ inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, in
 
 }  // namespace reconstruct_detail
 
-inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
+[[gnu::always_inline]] inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
     using namespace reconstruct_detail;
     const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
     const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
