@@ -35,6 +35,26 @@ public:
         return {decode_[t[0]], decode_[t[1]], decode_[t[2]], t[3] * (1.0f / 255.0f)};
     }
 
+    // Bilinear blend of the four LDR texels (i0|i1, j0|j1), all inside the image:
+    // successive linear interpolations along v, then u, on decoded linear values. The row
+    // addresses are computed once for the four texels (the hot path of bilinear filtering).
+    [[gnu::always_inline]] Color4 blend_ldr(int i0, int i1, int j0, int j1, float fu, float fv) const {
+        const std::size_t row = std::size_t(width_) * 4;
+        const std::uint8_t* r0 = texels_8_.data() + std::size_t(j0) * row;
+        const std::uint8_t* r1 = texels_8_.data() + std::size_t(j1) * row;
+        const std::size_t c0 = std::size_t(i0) * 4, c1 = std::size_t(i1) * 4;
+        Color4 out;
+        for (int c = 0; c < 3; ++c) {
+            const float column0 = decode_[r0[c0 + c]] + fv * (decode_[r1[c0 + c]] - decode_[r0[c0 + c]]);
+            const float column1 = decode_[r0[c1 + c]] + fv * (decode_[r1[c1 + c]] - decode_[r0[c1 + c]]);
+            out[c] = column0 + fu * (column1 - column0);
+        }
+        const float a0 = r0[c0 + 3] + fv * (float(r1[c0 + 3]) - r0[c0 + 3]);
+        const float a1 = r0[c1 + 3] + fv * (float(r1[c1 + 3]) - r0[c1 + 3]);
+        out[3] = (a0 + fu * (a1 - a0)) * (1.0f / 255.0f);  // alpha is stored linearly
+        return out;
+    }
+
 private:
     int width_ = 0, height_ = 0;
     double inv_width_ = 0.0, inv_height_ = 0.0;

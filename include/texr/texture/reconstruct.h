@@ -110,6 +110,8 @@ struct AxisTaps {
     using namespace reconstruct_detail;
     const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
     const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
+    if (!image.is_hdr() && (a.i0 | a.i1 | b.i0 | b.i1) >= 0)  // no border texel: the 8-bit fast path
+        return image.blend_ldr(a.i0, a.i1, b.i0, b.i1, a.f, b.f);
     // Successive linear interpolations: along v in columns i0 and i1, then along u.
     const Color4 column0 = texel_or_border(image, sampler, a.i0, b.i0) +
                            b.f * (texel_or_border(image, sampler, a.i0, b.i1) - texel_or_border(image, sampler, a.i0, b.i0));
