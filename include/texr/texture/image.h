@@ -43,16 +43,15 @@ public:
         const std::uint8_t* r0 = texels_8_.data() + std::size_t(j0) * row;
         const std::uint8_t* r1 = texels_8_.data() + std::size_t(j1) * row;
         const std::size_t c0 = std::size_t(i0) * 4, c1 = std::size_t(i1) * 4;
-        Color4 out;
+        float rgb[3];  // (not Color4's operator[], which switches on the index)
         for (int c = 0; c < 3; ++c) {
             const float column0 = decode_[r0[c0 + c]] + fv * (decode_[r1[c0 + c]] - decode_[r0[c0 + c]]);
             const float column1 = decode_[r0[c1 + c]] + fv * (decode_[r1[c1 + c]] - decode_[r0[c1 + c]]);
-            out[c] = column0 + fu * (column1 - column0);
+            rgb[c] = column0 + fu * (column1 - column0);
         }
         const float a0 = r0[c0 + 3] + fv * (float(r1[c0 + 3]) - r0[c0 + 3]);
         const float a1 = r0[c1 + 3] + fv * (float(r1[c1 + 3]) - r0[c1 + 3]);
-        out[3] = (a0 + fu * (a1 - a0)) * (1.0f / 255.0f);  // alpha is stored linearly
-        return out;
+        return {rgb[0], rgb[1], rgb[2], (a0 + fu * (a1 - a0)) * (1.0f / 255.0f)};  // alpha is stored linearly
     }
 
 private:
