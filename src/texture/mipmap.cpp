@@ -120,7 +120,7 @@ void MipMap::build() const {
         levels_.reserve(std::size_t(count - 1));
         for (int l = 1; l < count; ++l) levels_.push_back(downsample(l == 1 ? *base_ : levels_.back()));
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        built_flag_.store(true);
+        built_flag_.store(true, std::memory_order_release);
     });
 }
 

@@ -34,7 +34,7 @@ public:
     // Level l (0 is the base); builds the pyramid on first call with l > 0.
     const Image& level(int l) const {
         if (l == 0) return *base_;
-        build();
+        if (!built_flag_.load(std::memory_order_acquire)) build();  // once; then only this load
         return levels_[std::size_t(l - 1)];
     }
     // Number of levels including the base (down to 1x1). Does not build them.
