@@ -165,7 +165,7 @@ TEST_CASE("stress: UVs offset by 1e5 render the same as offset 0 (re-based per t
     // Stated tolerance: 1e-6 in linear colour. Re-basing by whole periods makes the setup
     // identical, so in practice the frames match exactly.
     for (Wrap wrap : {Wrap::repeat, Wrap::mirror}) {
-        Framebuffer frames[2] = {Framebuffer(1, 1, {}), Framebuffer(1, 1, {})};
+        Framebuffer frames[2] = {Framebuffer(1, 1, Color(0.0f)), Framebuffer(1, 1, Color(0.0f))};
         for (int k = 0; k < 2; ++k) {
             const double offset = k == 0 ? 0.0 : 1e5;
             Scene scene = testing::camera_scene(96, 64, {0, 1, 2}, {0, 0, -3}, 60.0, 0.1, 100.0);

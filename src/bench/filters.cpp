@@ -53,7 +53,7 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
             render(scene, options, warm);  // warm caches; not timed
             std::vector<double> times;
             RenderStats stats;
-            Framebuffer frame(1, 1, {});
+            Framebuffer frame(1, 1, Color(0.0f));
             for (int r = 0; r < o.repeat; ++r) {
                 stats = RenderStats{};
                 const auto start = Clock::now();

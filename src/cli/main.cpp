@@ -229,7 +229,7 @@ int run_render(const std::vector<std::string>& argv) {
     options.span_tolerance = args.span_tolerance;
     texr::RenderStats stats;
     std::vector<double> frame_ms;
-    texr::Framebuffer frame(1, 1, {});
+    texr::Framebuffer frame(1, 1, texr::Color(0.0f));
     for (int i = 0; i < args.repeat; ++i) {
         const auto start = Clock::now();
         frame = texr::render(scene, options, stats);

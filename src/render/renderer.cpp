@@ -115,7 +115,7 @@ constexpr std::size_t chunk_triangles = 4096;
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
-    Framebuffer fb(width, height, scene.background);
+    Framebuffer fb(width, height, Framebuffer::Uncleared{});  // each worker clears its own rows
     if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
     if (options.capture_uv) fb.uv.assign(fb.color.size(), glm::dvec2(std::nan("")));
     if (options.explain_x >= 0 && options.explain_y >= 0 && options.explain_x < width && options.explain_y < height) {
@@ -148,6 +148,9 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     double vertex_seconds = 0.0;
     const auto start = Clock::now();
     auto work = [&](int w) {
+        const RowSet rows{w, workers};
+        for (int y = rows.first_owned(0); y < height; y = rows.next_owned(y + RowSet::band_rows - 1))
+            fb.clear_rows(y, std::min(height, y + RowSet::band_rows), scene.background);
         const auto share = [&](std::size_t first, std::size_t last, int k) { return first + (last - first) * std::size_t(k) / std::size_t(workers); };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const Mesh& mesh = scene.meshes[std::size_t(scene.objects[i].mesh)];

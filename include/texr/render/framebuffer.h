@@ -1,8 +1,10 @@
 // The frame being rendered: linear RGB colour and a depth buffer, row 0 at the top.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -11,13 +13,35 @@
 
 namespace texr {
 
+// An allocator whose containers leave new elements uninitialised, so that a frame's buffers
+// can be cleared in parallel, each worker its own rows, instead of once serially.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <typename U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <typename U>
+    void construct(U*) noexcept {}  // default-construct: leave it
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+template <typename T>
+using FrameVector = std::vector<T, UninitializedAllocator<T>>;
+
 struct Framebuffer {
     int width = 0, height = 0;
-    std::vector<Color> color;  // linear RGB
+    FrameVector<Color> color;  // linear RGB
     // Window depth in [0, 1] (1 is the far plane), cleared to "nothing here" (+infinity):
     // a surface at the far plane itself, or one whose depth rounds to 1 when near/far is
     // extreme, is still drawn.
-    std::vector<float> depth;
+    FrameVector<float> depth;
     static constexpr float empty_depth = std::numeric_limits<float>::infinity();
     // Test instrumentation, empty unless sized by the caller: how many triangles covered
     // each pixel (counted before the depth test).
@@ -31,6 +55,16 @@ struct Framebuffer {
     Framebuffer(int w, int h, Color background)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h), background),
           depth(std::size_t(w) * std::size_t(h), empty_depth) {}
+
+    // Buffers sized but not cleared: the caller clears every row (clear_rows) before use.
+    struct Uncleared {};
+    Framebuffer(int w, int h, Uncleared)
+        : width(w), height(h), color(std::size_t(w) * std::size_t(h)), depth(std::size_t(w) * std::size_t(h)) {}
+
+    void clear_rows(int first, int last, Color background) {  // rows [first, last)
+        std::fill(color.begin() + std::ptrdiff_t(index(0, first)), color.begin() + std::ptrdiff_t(index(0, last)), background);
+        std::fill(depth.begin() + std::ptrdiff_t(index(0, first)), depth.begin() + std::ptrdiff_t(index(0, last)), empty_depth);
+    }
 
     bool drawn(std::size_t i) const { return depth[i] != empty_depth; }
     std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
