@@ -19,12 +19,14 @@ inline void exact_at(const TextureHomography& h, double x, double yc, double& u,
     v = h.v_prime.at(x + 0.5, yc) * inv_q;
 }
 
-// Fills pixels [a, b] (b > a) linearly between exact values at a and b; u[a], v[a] given.
+// Fills the pixels from a to b (either order, a != b) linearly between exact values at a
+// and b; u[a], v[a] are given.
 inline void linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v) {
     exact_at(h, double(b), yc, u[b - x0], v[b - x0]);
     const double inv_length = 1.0 / double(b - a);
     const double du = (u[b - x0] - u[a - x0]) * inv_length, dv = (v[b - x0] - v[a - x0]) * inv_length;
-    for (int x = a + 1; x < b; ++x) {
+    const int step = b > a ? 1 : -1;
+    for (int x = a + step; x != b; x += step) {
         u[x - x0] = u[a - x0] + du * (x - a);
         v[x - x0] = v[a - x0] + dv * (x - a);
     }
@@ -47,8 +49,6 @@ int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double*
 int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
-    exact_at(h, x0, yc, u[0], v[0]);
-    int divides = 1;
     const int last = x0 + n - 1;
     // K = (du'/dx) q - u' (dq/dx): constant along the row.
     const double q0 = h.q.at(x0 + 0.5, yc);
@@ -56,29 +56,31 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
     const double k_v = h.v_prime.dx * q0 - h.v_prime.at(x0 + 0.5, yc) * h.q.dx;
     // max |u''| in texels = curvature / q^3.
     const double curvature = 2.0 * std::fabs(h.q.dx) * std::max(std::fabs(k_u) * t.width, std::fabs(k_v) * t.height);
-    for (int a = x0; a < last;) {
-        int length = last - a;
+    // Walk the span in the direction in which q grows: then the smallest q of every sub-span
+    // is at its start, and the longest allowed length follows in closed form,
+    //   L^2 / 8 * curvature / q_start^3 <= tolerance.
+    const int direction = h.q.dx >= 0.0 ? 1 : -1;
+    const int first = direction > 0 ? x0 : last, end = direction > 0 ? last : x0;
+    exact_at(h, first, yc, u[first - x0], v[first - x0]);
+    int divides = 1;
+    for (int a = first; a != end;) {
+        const int remaining = (end - a) * direction;
+        int length = remaining;
         if (curvature > 0.0) {
-            for (int attempt = 0; attempt < 4; ++attempt) {
-                const double q_min = std::min(h.q.at(a + 0.5, yc), h.q.at(a + length + 0.5, yc));
-                const double bound = double(length) * length / 8.0 * curvature / (q_min * q_min * q_min);
-                if (bound <= t.tolerance) break;
-                // The longest L with L^2 / 8 * curvature / q_min^3 <= tolerance; q_min only
-                // grows as L shrinks, so the new bound is below the tolerance too.
-                const double fit = std::sqrt(8.0 * t.tolerance * q_min * q_min * q_min / curvature);
-                length = std::max(1, std::min(length - 1, int(fit)));
-            }
+            const double q = h.q.at(a + 0.5, yc);
+            const double fit = std::sqrt(8.0 * t.tolerance * q * q * q / curvature);
+            length = fit < double(remaining) ? std::max(1, int(fit)) : remaining;
         }
         if (length <= 1) {
             // Where the bound allows no interpolation at all (near a horizon), sizing sub-spans
             // costs more than it saves: take the next 8 pixels exactly.
-            const int b = std::min(last, a + 8);
-            for (int x = a + 1; x <= b; ++x) exact_at(h, x, yc, u[x - x0], v[x - x0]);
-            divides += b - a;
+            const int b = a + direction * std::min(remaining, 8);
+            for (int x = a + direction; x != b + direction; x += direction) exact_at(h, x, yc, u[x - x0], v[x - x0]);
+            divides += std::abs(b - a);
             a = b;
             continue;
         }
-        const int b = a + length;
+        const int b = a + direction * length;
         linear_between(h, yc, x0, a, b, u, v);
         ++divides;
         a = b;

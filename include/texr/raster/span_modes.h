@@ -11,9 +11,10 @@
 // The adaptive bound: along a row u(x) = u'(x)/q(x) with u' and q linear in x, so
 //   u'' = -2 (dq/dx) K / q^3,   K = (du'/dx) q - u' (dq/dx),
 // and K is constant along the row (its x derivative cancels). Linear interpolation between exact values L pixels apart
-// errs by at most L^2 / 8 * max|u''|, and max|u''| is at the sub-span's end with the
-// smaller q. Measured in texels (u times the texture width, v times its height), L is
-// chosen so that bound stays <= tolerance.
+// errs by at most L^2 / 8 * max|u''|, and max|u''| is where q is smallest. The span is walked
+// in the direction in which q grows, so that is each sub-span's start and L follows in closed
+// form. Measured in texels (u times the texture width, v times its height), L is chosen so
+// that bound stays <= tolerance.
 #pragma once
 #include <string>
 
