@@ -6,13 +6,6 @@
 
 namespace texr {
 
-std::int64_t snap(double pixels) {
-    // Round half away from zero, like std::llround, without its library call. |pixels| stays
-    // within the guard band (2^15), far inside int64.
-    const double t = pixels * double(subpixel_scale);
-    return static_cast<std::int64_t>(t + (t >= 0.0 ? 0.5 : -0.5));
-}
-
 std::int64_t twice_signed_area(const std::array<SnappedVertex, 3>& v) {
     return (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
 }
@@ -45,6 +38,8 @@ bool triangle_edges(const std::array<SnappedVertex, 3>& v, TriangleEdges& out) {
         e.bias = top_left ? 0 : -1;
         out.edges[i] = e;
     }
+    out.min_x = std::min({v[0].x, v[1].x, v[2].x});
+    out.max_x = std::max({v[0].x, v[1].x, v[2].x});
     out.min_y = std::min({v[0].y, v[1].y, v[2].y});
     out.max_y = std::max({v[0].y, v[1].y, v[2].y});
     return true;
@@ -61,13 +56,32 @@ Span span_for_row(const TriangleEdges& t, int y, int width) {
     // Each edge is a linear inequality in the pixel index x along the row:
     //   E(256 x + 128, Py) + bias = (256 a) x + (128 a + b Py + c + bias) >= 0.
     const std::int64_t py = subpixel_scale * y + subpixel_scale / 2;
-    std::int64_t lo = 0, hi = std::int64_t(width) - 1;
-    for (const EdgeFunction& e : t.edges) {
-        const std::int64_t slope = subpixel_scale * e.a;
-        const std::int64_t offset = (subpixel_scale / 2) * e.a + e.b * py + e.c + e.bias;
-        if (slope > 0) lo = std::max(lo, ceil_div(-offset, slope));
-        else if (slope < 0) hi = std::min(hi, floor_div(offset, -slope));
-        else if (offset < 0) return {0, 0};  // parallel to the row and outside it
+    std::int64_t slope[3], offset[3];
+    for (int k = 0; k < 3; ++k) {
+        const EdgeFunction& e = t.edges[std::size_t(k)];
+        slope[k] = subpixel_scale * e.a;
+        offset[k] = (subpixel_scale / 2) * e.a + e.b * py + e.c + e.bias;
+    }
+    // The pixels whose centres lie inside the bounding box (256 is a power of two: the
+    // divisions are shifts, flooring for negative values too).
+    std::int64_t lo = std::max<std::int64_t>(0, -((subpixel_scale / 2 - t.min_x) >> subpixel_bits));
+    std::int64_t hi = std::min<std::int64_t>(std::int64_t(width) - 1, (t.max_x - subpixel_scale / 2) >> subpixel_bits);
+    if (lo > hi) return {0, 0};
+    if (hi - lo < 16) {
+        // A narrow triangle: test the few candidate centres directly (no divisions). The
+        // covered centres of a row are contiguous, the triangle being convex.
+        auto inside = [&](std::int64_t x) {
+            return slope[0] * x + offset[0] >= 0 && slope[1] * x + offset[1] >= 0 && slope[2] * x + offset[2] >= 0;
+        };
+        while (lo <= hi && !inside(lo)) ++lo;
+        std::int64_t end = lo;
+        while (end <= hi && inside(end)) ++end;
+        return lo < end ? Span{int(lo), int(end)} : Span{0, 0};
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (slope[k] > 0) lo = std::max(lo, ceil_div(-offset[k], slope[k]));
+        else if (slope[k] < 0) hi = std::min(hi, floor_div(offset[k], -slope[k]));
+        else if (offset[k] < 0) return {0, 0};  // parallel to the row and outside it
     }
     if (lo > hi) return {0, 0};
     return {int(lo), int(hi + 1)};

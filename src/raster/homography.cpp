@@ -10,11 +10,12 @@ std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& s) {
     // Row i of adj(S) is the edge function of the edge opposite vertex i:
     //   lambda_0 * det = (y1 - y2) x + (x2 - x1) y + (x1 y2 - x2 y1), and cyclically.
     const double det = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+    const double inv_det = 1.0 / det;  // one division per triangle, not nine
     std::array<Plane, 3> planes;
     for (int i = 0; i < 3; ++i) {
         const glm::dvec2& a = s[(i + 1) % 3];
         const glm::dvec2& b = s[(i + 2) % 3];
-        planes[i] = {(a.y - b.y) / det, (b.x - a.x) / det, (a.x * b.y - b.x * a.y) / det};
+        planes[i] = {(a.y - b.y) * inv_det, (b.x - a.x) * inv_det, (a.x * b.y - b.x * a.y) * inv_det};
     }
     return planes;
 }

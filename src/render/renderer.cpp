@@ -7,7 +7,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <exception>
+#include <mutex>
 #include <thread>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -73,32 +75,50 @@ private:
     PixelExplanation* explain_;
 };
 
-// All workers wait here until every one has arrived (spinning, then yielding the core).
+// All workers wait here until every one has arrived. A waiter spins briefly (the others
+// are usually close behind), then sleeps on a condition variable, so that a worker whose
+// core was taken by another process is not kept waiting by spinners.
 class Barrier {
 public:
     explicit Barrier(int count) : count_(count) {}
+    struct Abandoned {};
+
     void wait() {
         if (count_ == 1) return;
-        if (abandoned_.load(std::memory_order_acquire)) throw Abandoned{};
         const int generation = generation_.load(std::memory_order_acquire);
-        if (arrived_.fetch_add(1, std::memory_order_acq_rel) == count_ - 1) {
-            arrived_.store(0, std::memory_order_relaxed);
-            generation_.fetch_add(1, std::memory_order_release);
-            return;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (abandoned_) throw Abandoned{};
+            if (++arrived_ == count_) {  // the last to arrive releases the others
+                arrived_ = 0;
+                generation_.store(generation + 1, std::memory_order_release);
+                woken_.notify_all();
+                return;
+            }
         }
-        while (generation_.load(std::memory_order_acquire) == generation) {
-            if (abandoned_.load(std::memory_order_acquire)) throw Abandoned{};
-            std::this_thread::yield();
-        }
+        for (int spin = 0; spin < 4000; ++spin)
+            if (generation_.load(std::memory_order_acquire) != generation) return;
+        std::unique_lock<std::mutex> lock(mutex_);
+        woken_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != generation || abandoned_; });
+        if (generation_.load(std::memory_order_acquire) == generation) throw Abandoned{};
     }
+
     // A worker failed: release everyone waiting (they stop with Abandoned).
-    void abandon() { abandoned_.store(true, std::memory_order_release); }
-    struct Abandoned {};
+    void abandon() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            abandoned_ = true;
+        }
+        woken_.notify_all();
+    }
 
 private:
     const int count_;
-    std::atomic<int> arrived_{0}, generation_{0};
-    std::atomic<bool> abandoned_{false};
+    std::mutex mutex_;
+    std::condition_variable woken_;
+    int arrived_ = 0;
+    bool abandoned_ = false;
+    std::atomic<int> generation_{0};
 };
 
 int thread_count(int requested) {

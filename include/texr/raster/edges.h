@@ -19,8 +19,13 @@ struct SnappedVertex {
     std::int64_t x, y;  // in 1/256 pixel
 };
 
-// Rounds a screen coordinate (pixels) to the nearest 1/256 pixel.
-std::int64_t snap(double pixels);
+// Rounds a screen coordinate (pixels) to the nearest 1/256 pixel: half away from zero, like
+// std::llround, without its library call. |pixels| stays within the guard band (2^15),
+// far inside int64.
+inline std::int64_t snap(double pixels) {
+    const double t = pixels * double(subpixel_scale);
+    return static_cast<std::int64_t>(t + (t >= 0.0 ? 0.5 : -0.5));
+}
 
 struct EdgeFunction {
     std::int64_t a, b, c;  // E = a X + b Y + c, positive inside
@@ -29,7 +34,7 @@ struct EdgeFunction {
 
 struct TriangleEdges {
     std::array<EdgeFunction, 3> edges;
-    std::int64_t min_y, max_y;  // bounding rows of the snapped vertices, in 1/256 pixel
+    std::int64_t min_x, max_x, min_y, max_y;  // bounding box of the snapped vertices, in 1/256 pixel
 };
 
 // Builds the edge functions, oriented so the interior is positive whatever the winding.
