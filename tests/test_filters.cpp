@@ -296,3 +296,15 @@ TEST_CASE("footprint filters stay bounded and finite for huge, infinite and NaN 
         }
     }
 }
+
+TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(16, 16, 31)));
+    Sampler s;
+    // (lambda, level) worked out from the rule by hand.
+    const std::pair<double, int> cases[] = {{-3.0, 0}, {0.5, 0}, {0.51, 1}, {1.5, 1}, {1.51, 2}, {2.0, 2}, {2.49, 2}, {3.5, 3}, {99.0, 4}};
+    for (const auto& [lambda, level] : cases) {
+        CAPTURE(lambda);
+        for (double u : {0.13, 0.61})
+            CHECK(sample_mip_nearest(mip, s, u, 0.37, lambda, false).x == sample_nearest(mip.level(level), s, u, 0.37).x);
+    }
+}

@@ -158,7 +158,8 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
                 const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
                 const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
                 UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
-                if constexpr ((N & need_uv_derivatives) != 0) derivatives = uv_derivatives(s.h, u, v, q.value);
+                if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
+                    derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
                 texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
                                   : lookup(*d.texture, u, v, derivatives, texels);
                 if (uv_row) uv_row[x] = {u, v};

@@ -29,7 +29,11 @@ Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double 
     const int last = mip.level_count() - 1;
     int level = 0;
     if (lambda >= double(last)) level = last;
-    else if (lambda > 0.5) level = std::min(last, int(std::ceil(lambda + 0.5)) - 1);
+    else if (lambda > 0.5) {
+        level = int(lambda + 0.5);                     // = ceil(lambda + 1/2) - 1 ...
+        if (double(level) == lambda + 0.5) --level;  // ... also when lambda + 1/2 is whole
+        level = std::min(last, level);
+    }
     const Image& image = mip.level(level);
     return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
 }

@@ -53,10 +53,12 @@ TextureHomography texture_homography(const std::array<glm::dvec2, 3>& screen,
 struct UVDerivatives {
     double dudx, dvdx, dudy, dvdy;
 };
-inline UVDerivatives uv_derivatives(const TextureHomography& h, double u, double v, double q) {
-    const double inv_q = 1.0 / q;
+inline UVDerivatives uv_derivatives_from_inverse_q(const TextureHomography& h, double u, double v, double inv_q) {
     return {(h.u_prime.dx - u * h.q.dx) * inv_q, (h.v_prime.dx - v * h.q.dx) * inv_q,
             (h.u_prime.dy - u * h.q.dy) * inv_q, (h.v_prime.dy - v * h.q.dy) * inv_q};
+}
+inline UVDerivatives uv_derivatives(const TextureHomography& h, double u, double v, double q) {
+    return uv_derivatives_from_inverse_q(h, u, v, 1.0 / q);
 }
 
 }  // namespace texr
