@@ -95,3 +95,14 @@ TEST_CASE("subdivided affine spans err less with shorter sub-spans; plain affine
     CHECK(e16 / e8 == doctest::Approx(4.0).epsilon(0.5));
     CHECK(measure(SpanMode::affine).max > 10.0);  // tens of texels off: the wrong answer
 }
+
+TEST_CASE("an empty span writes nothing in every mode") {
+    const Floor floor;
+    SpanTexturing t;
+    t.h = &floor.h, t.u_affine = floor.u_affine, t.v_affine = floor.v_affine;
+    double u[1] = {-7.0}, v[1] = {-7.0};
+    for (int m = 0; m < span_mode_count; ++m) {
+        CHECK(span_texture_coordinates(SpanMode(m), t, 400, 1000, 0, u, v) == 0);
+        CHECK(u[0] == -7.0);
+    }
+}

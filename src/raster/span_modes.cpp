@@ -102,6 +102,7 @@ bool parse_span_mode(const std::string& name, SpanMode& out) {
 }
 
 int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
+    if (n <= 0) return 0;  // an empty span
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
     switch (mode) {

@@ -208,7 +208,14 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         }
     };
     std::vector<std::thread> threads;
-    for (int t = 1; t < workers; ++t) threads.emplace_back(guarded, t);
+    threads.reserve(std::size_t(workers - 1));
+    try {
+        for (int t = 1; t < workers; ++t) threads.emplace_back(guarded, t);
+    } catch (...) {  // a thread could not be started: release and join the others, then report
+        barrier.abandon();
+        for (std::thread& t : threads) t.join();
+        throw;
+    }
     guarded(0);
     for (std::thread& t : threads) t.join();
     for (const std::exception_ptr& e : failures)

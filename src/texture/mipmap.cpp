@@ -117,8 +117,12 @@ void MipMap::build() const {
     std::call_once(once_, [this] {
         const auto start = std::chrono::steady_clock::now();
         const int count = level_count();
-        levels_.reserve(std::size_t(count - 1));
-        for (int l = 1; l < count; ++l) levels_.push_back(downsample(l == 1 ? *base_ : levels_.back()));
+        // Built aside and moved in whole: if a level fails (out of memory), nothing partial
+        // stays behind for the next attempt.
+        std::vector<Image> levels;
+        levels.reserve(std::size_t(count - 1));
+        for (int l = 1; l < count; ++l) levels.push_back(downsample(l == 1 ? *base_ : levels.back()));
+        levels_ = std::move(levels);
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         built_flag_.store(true, std::memory_order_release);
     });

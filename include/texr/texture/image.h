@@ -49,9 +49,11 @@ public:
             const float column1 = decode_[r0[c1 + c]] + fv * (decode_[r1[c1 + c]] - decode_[r0[c1 + c]]);
             rgb[c] = column0 + fu * (column1 - column0);
         }
-        const float a0 = r0[c0 + 3] + fv * (float(r1[c0 + 3]) - r0[c0 + 3]);
-        const float a1 = r0[c1 + 3] + fv * (float(r1[c1 + 3]) - r0[c1 + 3]);
-        return {rgb[0], rgb[1], rgb[2], (a0 + fu * (a1 - a0)) * (1.0f / 255.0f)};  // alpha is stored linearly
+        // Alpha is stored linearly: k / 255, blended like the general path does it.
+        const float a00 = r0[c0 + 3] * (1.0f / 255.0f), a01 = r1[c0 + 3] * (1.0f / 255.0f);
+        const float a10 = r0[c1 + 3] * (1.0f / 255.0f), a11 = r1[c1 + 3] * (1.0f / 255.0f);
+        const float a0 = a00 + fv * (a01 - a00), a1 = a10 + fv * (a11 - a10);
+        return {rgb[0], rgb[1], rgb[2], a0 + fu * (a1 - a0)};
     }
 
 private:

@@ -57,7 +57,7 @@ namespace reconstruct_detail {
 [[gnu::always_inline]] inline int nearest_tap(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
     // Node registration: reduce the lattice position first, then round to the nearest node,
-    // so u and u + 1 read the same texel (texel n - 1 sits at u = 1, as the slide has it).
+    // so u and u + 1 read the same texel (see wrap_node_index for the node at u = 1).
     double x = node ? t * (n - 1) : t * n;
     if (!(x >= 0.0 && x < double(node ? n - 1 : n))) x = reduce_lattice(wrap, x, n, inv_n, node);
     if (node) {

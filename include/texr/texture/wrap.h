@@ -44,8 +44,9 @@ inline int wrap_clamp_index(int i, int n) { return std::clamp(i, 0, n - 1); }
 // Border: -1 marks "use the border colour".
 inline int wrap_border_index(int i, int n) { return (i < 0 || i >= n) ? -1 : i; }
 
-// Node registration (texel 0 at u = 0, texel n - 1 at u = 1) repeats every n - 1 texels:
-// texel n - 1 of one period is texel 0 of the next. Indices inside the image stay as they
+// Node registration (texel i at u = i / (n - 1)) repeats every n - 1 texels: the node at
+// u = 1 is both texel n - 1 of one period and texel 0 of the next, and with repeat a
+// coordinate exactly on it reads texel 0 (the two are equal in a tileable image). Indices inside the image stay as they
 // are; outside it, repeat takes them modulo n - 1 and mirror reflects at 0 and n - 1.
 inline int wrap_node_index(Wrap mode, int i, int n) {
     if (i >= 0 && i < n) return i;
@@ -84,8 +85,8 @@ inline double fast_floor(double x) {
 // Brings a lattice coordinate x (in texels) into a small range that the mode treats the
 // same: whole periods (p = n texels for repeat, 2n for mirror; n - 1 and 2(n - 1) with node
 // registration) are removed; for clamp and border everything beyond two texels outside the
-// image behaves like two texels outside. inv_p = 1 / p for repeat (the caller keeps it, so
-// no division per lookup). Coordinates beyond 1e15 texels, NaN included, carry no fraction
+// image behaves like two texels outside. inv_n = 1 / n (the caller keeps it, so cell
+// registration needs no division per lookup; node registration divides by n - 1). Coordinates beyond 1e15 texels, NaN included, carry no fraction
 // any more and are read as 0.
 inline double reduce_lattice(Wrap mode, double x, int n, double inv_n, bool node = false) {
     switch (mode) {
