@@ -42,15 +42,16 @@ std::string fixed(double v, int digits) {
     return buffer;
 }
 
-double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats) {
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats, Framebuffer* last) {
     RenderStats warm;
     render(scene, options, warm);
     std::vector<double> times;
     for (int r = 0; r < repeat; ++r) {
         stats = RenderStats{};
         const auto start = Clock::now();
-        render(scene, options, stats);
+        Framebuffer frame = render(scene, options, stats);
         times.push_back(ms_since(start));
+        if (last && r + 1 == repeat) *last = std::move(frame);
     }
     return median(times);
 }

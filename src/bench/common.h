@@ -25,9 +25,10 @@ struct BenchOptions {
 };
 
 double median(std::vector<double> v);
-// Renders once to warm caches, then `repeat` timed frames; returns the median in ms and the
-// last frame's counters.
-double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats);
+// Renders once to warm caches, then `repeat` timed frames; returns the median in ms, the
+// last frame's counters and, if asked, the last frame itself.
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats,
+                    Framebuffer* last = nullptr);
 // The pixels a frame's surfaces cover.
 std::vector<bool> covered(const Framebuffer& fb);
 void make_folders(const std::string& path);

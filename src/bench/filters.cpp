@@ -49,22 +49,14 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
         for (int f = 0; f < filter_count; ++f) {
             Scene scene = base;
             for (Texture& t : scene.textures) t.sampler.filter = Filter(f);
-            RenderStats warm;
-            render(scene, options, warm);  // warm caches; not timed
-            std::vector<double> times;
             RenderStats stats;
             Framebuffer frame(1, 1, Color(0.0f));
-            for (int r = 0; r < o.repeat; ++r) {
-                stats = RenderStats{};
-                const auto start = Clock::now();
-                frame = render(scene, options, stats);
-                times.push_back(ms_since(start));
-            }
+            const double frame_ms = timed_median(scene, options, o.repeat, stats, &frame);
             FilterRow row;
             row.scene = name, row.filter = filter_name(Filter(f));
             row.width = o.width, row.height = o.height, row.threads = o.threads;
             row.load_ms = load_ms, row.mip_ms = mip_ms;
-            row.frame_ms = median(times);
+            row.frame_ms = frame_ms;
             row.covered_pixels = double(stats.pixels_shaded);
             row.mpix_per_s = row.covered_pixels / (row.frame_ms * 1e3);
             const FrameBytes got = bytes_of(frame);

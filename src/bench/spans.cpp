@@ -49,16 +49,9 @@ std::vector<SpanRow> bench_spans(const BenchOptions& o) {
                 max_error = std::max(max_error, e), sum += e, ++count;
             }
             options.capture_uv = false;
-            RenderStats warm;
-            render(scene, options, warm);
-            std::vector<double> times;
-            for (int r = 0; r < o.repeat; ++r) {
-                RenderStats timed;
-                const auto start = Clock::now();
-                render(scene, options, timed);
-                times.push_back(ms_since(start));
-            }
-            SpanRow row{name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, median(times), max_error,
+            RenderStats timed;
+            const double frame_ms = timed_median(scene, options, o.repeat, timed);
+            SpanRow row{name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, frame_ms, max_error,
                         count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)};
             std::fprintf(stderr, "  %-12s %9.2f ms  max %.3g texel  mean %.3g texel\n", row.mode.c_str(), row.frame_ms,
                          row.max_error, row.mean_error);
