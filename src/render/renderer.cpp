@@ -54,9 +54,7 @@ public:
           explain_(fb.explanation && rows.owns(fb.explanation->y) ? fb.explanation.get() : nullptr) {}
 
     void draw(const PreparedPiece& p) {
-        int first = 0, last = -1;
-        row_range(p.s.edges, fb_.height, first, last);
-        if (rows_.first_owned(first) > last) return;  // all its rows belong to other workers
+        if (rows_.first_owned(p.s.first_row) > p.s.last_row) return;  // all its rows belong to other workers
         const Material& material = scene_.materials[std::size_t(p.material)];
         const DrawContext d{scene_, material, material.texture >= 0 ? &scene_.textures[std::size_t(material.texture)] : nullptr,
                             std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,

@@ -58,6 +58,7 @@ struct DrawContext {
 // Everything the span walk needs of one screen triangle.
 struct TriangleSetup {
     TriangleEdges edges;
+    int first_row, last_row;  // rows whose centres it can cover (row_range), found once at setup
     Plane depth;             // window depth, affine in screen space
     TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
     Plane u_affine, v_affine;  // SpanMode::affine only
@@ -188,9 +189,7 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
 
 template <Needs N>
 void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
-    int first = 0, last = -1;
-    row_range(s.edges, fb.height, first, last);
-    for (int y = rows.first_owned(first); y <= last; y = rows.next_owned(y)) {
+    for (int y = rows.first_owned(s.first_row); y <= s.last_row; y = rows.next_owned(y)) {
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
         ++stats.spans;

@@ -136,6 +136,7 @@ private:
         if (cull_back && twice_signed_area(snapped) > 0) { ++counters_.triangles_culled; return false; }
         if (off_screen(snapped)) { ++counters_.triangles_culled; return false; }
         ++counters_.triangles_set_up;
+        row_range(s.edges, height_, s.first_row, s.last_row);
 
         const Material& material = scene_.materials[std::size_t(piece.material)];
         const Needs needs = needs_[std::size_t(piece.material)];
