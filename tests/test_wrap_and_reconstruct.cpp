@@ -1,6 +1,10 @@
 // Wrap modes and the nearest / bilinear reconstruction filters against hand-worked values.
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
 #include "texr/texture/reconstruct.h"
 #include "texr/texture/wrap.h"
 
@@ -186,4 +190,51 @@ TEST_CASE("nearest and bilinear with clamp at u = +-1e7 read the right and left 
         CHECK(grey(sample(img, s, 1e7, 0.5)) == doctest::Approx(30.0));
         CHECK(grey(sample(img, s, -1e7, 0.5)) == doctest::Approx(10.0));
     }
+}
+
+TEST_CASE("the short path for repeat on power-of-two 8-bit images reads what the general path reads") {
+    // An 8x4 image of 8-bit data texels (decoded as k / 255) takes the bit-mask path; an HDR
+    // copy holding the same values takes the general path, which removes whole periods.
+    // Both must agree, for negative coordinates and up to |u| = 1e7, and with a reference
+    // worked out here with std::floor and fmod in long double.
+    const int w = 8, h = 4;
+    std::vector<std::uint8_t> bytes;
+    std::vector<float> floats;
+    for (int k = 0; k < w * h; ++k) {
+        const auto value = std::uint8_t((k * 53 + 17) % 256);
+        bytes.insert(bytes.end(), {value, value, value, 255});
+        const float f = float(value) / 255.0f;
+        floats.insert(floats.end(), {f, f, f, 1.0f});
+    }
+    const Image ldr = Image::ldr(w, h, ColorSpace::linear, bytes);
+    const Image hdr = Image::hdr(w, h, floats);
+    REQUIRE(ldr.is_ldr_pow2());
+    REQUIRE_FALSE(hdr.is_ldr_pow2());
+    const auto texel = [&](long double i, long double j) {  // wrapped by repeat
+        const long double a = std::fmod(std::fmod(i, (long double)w) + w, (long double)w);
+        const long double b = std::fmod(std::fmod(j, (long double)h) + h, (long double)h);
+        return floats[std::size_t((int(b) * w + int(a)) * 4)];
+    };
+    std::uint64_t state = 12345;
+    const auto random = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) * 0x1p-53;
+    };
+    const Sampler s = sampler(Filter::bilinear, Wrap::repeat, Registration::cell);
+    for (double scale : {1.0, 100.0, 1e4, 1e7})
+        for (int n = 0; n < 2000; ++n) {
+            const double u = (2.0 * random() - 1.0) * scale, v = (2.0 * random() - 1.0) * scale;
+            CAPTURE(u);
+            CAPTURE(v);
+            CHECK(sample_bilinear(ldr, s, u, v).x == sample_bilinear(hdr, s, u, v).x);
+            CHECK(sample_nearest(ldr, s, u, v).x == sample_nearest(hdr, s, u, v).x);
+            // The reference: nearest is texel floor(u n), bilinear blends around u n - 1/2.
+            const long double x = (long double)u * w, y = (long double)v * h;
+            CHECK(sample_nearest(ldr, s, u, v).x == texel(std::floor(x), std::floor(y)));
+            const long double bx = x - 0.5L, by = y - 0.5L, i = std::floor(bx), j = std::floor(by);
+            const long double fu = bx - i, fv = by - j;
+            const long double expected = (1 - fu) * ((1 - fv) * texel(i, j) + fv * texel(i, j + 1)) +
+                                         fu * ((1 - fv) * texel(i + 1, j) + fv * texel(i + 1, j + 1));
+            CHECK(sample_bilinear(ldr, s, u, v).x == doctest::Approx(double(expected)).epsilon(1e-5));
+        }
 }

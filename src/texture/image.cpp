@@ -19,6 +19,7 @@ Image Image::ldr(int width, int height, ColorSpace space, std::vector<std::uint8
     image.texels_8_ = std::move(rgba);
     image.inv_width_ = 1.0 / width, image.inv_height_ = 1.0 / height;
     image.decode_ = space == ColorSpace::srgb ? srgb8_to_linear_table() : unorm8_to_float_table();
+    image.ldr_pow2_ = width > 0 && height > 0 && (width & (width - 1)) == 0 && (height & (height - 1)) == 0;
     return image;
 }
 

@@ -8,21 +8,6 @@
 
 namespace texr {
 
-namespace {
-// Squared length of a derivative vector in texels. (Not std::hypot: that guards against
-// overflow at a cost of tens of nanoseconds per pixel; an overflow to +inf here only
-// selects the coarsest level, which is right for such a footprint.)
-inline double squared_texels(double du, double dv, double width, double height) {
-    return (width * du) * (width * du) + (height * dv) * (height * dv);
-}
-}  // namespace
-
-double level_of_detail(const UVDerivatives& d, int width, int height) {
-    // lambda = log2(max(rho_x, rho_y)) = log2(max(rho_x^2, rho_y^2)) / 2: one log, no roots.
-    const double rho2 = std::max(squared_texels(d.dudx, d.dvdx, width, height), squared_texels(d.dudy, d.dvdy, width, height));
-    return rho2 > 0.0 ? 0.5 * std::log2(rho2) : -1e9;  // a point footprint: full magnification
-}
-
 Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
     // OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1. An infinite
     // footprint reads the coarsest level; NaN reads the base.
@@ -38,20 +23,9 @@ Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double 
     return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
 }
 
-Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
-    const int last = mip.level_count() - 1;
-    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
-    if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
-    const int l0 = int(lambda);
-    const float t = float(lambda - l0);
-    const Color4 a = sample_bilinear(mip.level(l0), s, u, v);
-    const Color4 b = sample_bilinear(mip.level(l0 + 1), s, u, v);
-    return a + t * (b - a);
-}
-
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     const double w = mip.base().width(), h = mip.base().height();
-    const double rho_x = std::sqrt(squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(squared_texels(d.dudy, d.dvdy, w, h));
+    const double rho_x = std::sqrt(minify_detail::squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(minify_detail::squared_texels(d.dudy, d.dvdy, w, h));
     const double major = std::max(rho_x, rho_y), minor = std::min(rho_x, rho_y);
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         probes = 1;

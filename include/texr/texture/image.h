@@ -24,6 +24,8 @@ public:
     double inv_width() const { return inv_width_; }
     double inv_height() const { return inv_height_; }
     bool is_hdr() const { return hdr_; }
+    // 8-bit texels and a power-of-two width and height: repeat wraps by a bit mask.
+    bool is_ldr_pow2() const { return ldr_pow2_; }
     ColorSpace color_space() const { return space_; }
     std::size_t bytes() const { return texels_8_.size() + texels_f_.size() * sizeof(float); }
 
@@ -61,6 +63,7 @@ private:
     double inv_width_ = 0.0, inv_height_ = 0.0;
     ColorSpace space_ = ColorSpace::srgb;
     bool hdr_ = false;
+    bool ldr_pow2_ = false;
     std::vector<std::uint8_t> texels_8_;
     std::vector<float> texels_f_;
     const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255

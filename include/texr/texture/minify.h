@@ -7,13 +7,17 @@
 // the true lengths of the two derivative vectors, not a max of absolute components, so the
 // level does not change when the footprint rotates.
 #pragma once
+#include <algorithm>
+#include <cmath>
+
 #include "texr/raster/homography.h"
+#include "texr/texture/reconstruct.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/sampler.h"
 
 namespace texr {
 
-double level_of_detail(const UVDerivatives& d, int width, int height);
+double level_of_detail(const UVDerivatives& d, int width, int height);  // defined below
 
 // GL_NEAREST_MIPMAP_NEAREST / GL_LINEAR_MIPMAP_NEAREST: the level nearest to lambda, read
 // with nearest or bilinear reconstruction. lambda <= 0 is magnification: the base level.
@@ -21,11 +25,42 @@ Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double 
 
 // GL_LINEAR_MIPMAP_LINEAR: bilinear in levels floor(lambda) and floor(lambda) + 1, blended by
 // the fraction of lambda.
-Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda);
+Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda);  // defined below
 
 // Anisotropic: N = min(ceil(major / minor), max_anisotropy) trilinear probes spaced evenly
 // along the footprint's major axis, at lambda = log2(major / N), averaged. Returns the
 // number of probes through `probes`.
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes);
+
+// --- Definitions of the per-pixel parts: inline, so the span loop compiles them in place ---
+namespace minify_detail {
+// Squared length of a derivative vector in texels. (Not std::hypot: that guards against
+// overflow at a cost of tens of nanoseconds per pixel; an overflow to +inf here only
+// selects the coarsest level, which is right for such a footprint.)
+[[gnu::always_inline]] inline double squared_texels(double du, double dv, double width, double height) {
+    return (width * du) * (width * du) + (height * dv) * (height * dv);
+}
+}  // namespace minify_detail
+
+[[gnu::always_inline]] inline double level_of_detail(const UVDerivatives& d, int width, int height) {
+    using minify_detail::squared_texels;
+    // lambda = log2(max(rho_x, rho_y)) = log2(max(rho_x^2, rho_y^2)) / 2: one log, no roots.
+    // The log is taken in float: lambda's fraction is a blend weight, and float's 24 bits
+    // put it within 1e-7 of the double value (rho^2 beyond float's range becomes +inf, the
+    // coarsest level, or 0, the base level: both what such a footprint reads).
+    const double rho2 = std::max(squared_texels(d.dudx, d.dvdx, width, height), squared_texels(d.dudy, d.dvdy, width, height));
+    return rho2 > 0.0 ? 0.5 * double(std::log2(float(rho2))) : -1e9;  // a point footprint: full magnification
+}
+
+[[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
+    const int last = mip.level_count() - 1;
+    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
+    if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
+    const int l0 = int(lambda);
+    const float t = float(lambda - l0);
+    const Color4 a = sample_bilinear(mip.level(l0), s, u, v);
+    const Color4 b = sample_bilinear(mip.level(l0 + 1), s, u, v);
+    return a + t * (b - a);
+}
 
 }  // namespace texr

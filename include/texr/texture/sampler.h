@@ -39,6 +39,11 @@ struct Sampler {
     float cubic_b = 0.0f, cubic_c = 0.5f;  // Mitchell-Netravali parameters; (0, 1/2) is Catmull-Rom
     bool clamp_overshoot = false;          // bicubic: clamp to the range of the 2x2 nearest texels
     float max_anisotropy = 16.0f;          // anisotropic and EWA: longest/shortest footprint axis
+
+    // The default layout, which the filters read by a shorter path on power-of-two images.
+    bool repeats_cells() const {
+        return registration == Registration::cell && wrap_u == Wrap::repeat && wrap_v == Wrap::repeat;
+    }
 };
 
 }  // namespace texr

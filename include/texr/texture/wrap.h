@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace texr {
 
@@ -80,6 +81,12 @@ inline int wrap_index(Wrap mode, int i, int n, bool node = false) {
 inline double fast_floor(double x) {
     const double t = double(static_cast<long long>(x));
     return t > x ? t - 1.0 : t;
+}
+
+// floor(x) as a 64-bit integer, for |x| < 2^62.
+inline std::int64_t floor_to_int64(double x) {
+    const std::int64_t t = static_cast<std::int64_t>(x);
+    return t - (double(t) > x);
 }
 
 // Brings a lattice coordinate x (in texels) into a small range that the mode treats the
