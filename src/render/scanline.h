@@ -16,6 +16,7 @@
 #include "texr/render/needs.h"
 #include "texr/render/stats.h"
 #include "texr/texture/lookup.h"
+#include "texr/texture/minify.h"
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
@@ -114,17 +115,58 @@ struct SteppedVector {
     void advance() { p[0].advance(), p[1].advance(), p[2].advance(); }
 };
 
+// How a span reads its texture. `general` serves every case; the others are the short paths
+// of the default sampler on a power-of-two 8-bit texture (reconstruct.h), taken when the
+// span steps (u, v) itself and records nothing: the choice is made once per span, so the
+// pixel loop carries no test of filter, wrap, registration or instrumentation.
+enum class TexturePath { general, nearest, bilinear, trilinear };
+
+template <Needs N>
+TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
+    if constexpr ((N & need_uv) == 0) return TexturePath::general;
+    if (d.span_mode != SpanMode::incremental || d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
+    const Texture& t = *d.texture;
+    if (!takes_short_path(*t.image, t.sampler)) return TexturePath::general;
+    switch (t.sampler.filter) {
+        case Filter::nearest: return TexturePath::nearest;
+        case Filter::bilinear: return TexturePath::bilinear;
+        case Filter::trilinear:
+            if constexpr ((N & need_uv_derivatives) != 0) return TexturePath::trilinear;
+            return TexturePath::general;
+        default: return TexturePath::general;
+    }
+}
+
+// The texture lookup of one pixel on a short path.
+template <TexturePath P>
+[[gnu::always_inline]] inline Color4 short_path_lookup(const Texture& t, double u, double v, const UVDerivatives& d,
+                                                       std::uint64_t& texels) {
+    if constexpr (P == TexturePath::nearest) {
+        texels += 1;
+        return sample_nearest_repeat_pow2(*t.image, t.sampler, u, v);
+    } else if constexpr (P == TexturePath::bilinear) {
+        texels += 4;
+        return sample_bilinear_repeat_pow2(*t.image, t.sampler, u, v);
+    } else {
+        const MipMap& mip = *t.mipmap;
+        const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
+        texels += (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;  // one level or two
+        return sample_trilinear_repeat_pow2(mip, t.sampler, u, v, lambda);
+    }
+}
+
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
 // pixel centre come from the plane equations; within the span they are stepped by their
 // constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
-template <Needs N>
-void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+template <Needs N, TexturePath P>
+void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
     constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
+    constexpr bool general = P == TexturePath::general;
     const int x0 = span.x0;
     // Texture coordinates: stepped here (incremental), or precomputed for the span by
     // another span mode, which may need no divide per pixel at all.
-    const bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
-    if constexpr ((N & need_uv) != 0)
+    const bool stepped_uv = (N & need_uv) != 0 && (!general || d.span_mode == SpanMode::incremental);
+    if constexpr ((N & need_uv) != 0 && general)
         if (!stepped_uv) {
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
@@ -146,7 +188,7 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
 
     float* depth_row = &fb.depth[fb.index(0, y)];
     Color* color_row = &fb.color[fb.index(0, y)];
-    glm::dvec2* uv_row = fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
+    glm::dvec2* uv_row = !general || fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
     std::uint64_t shaded = 0, texels = 0;
     for (int x = span.x0; x < span.x1; ++x) {
         if (float(depth.value) < depth_row[x]) {
@@ -161,9 +203,13 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
                 UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
                 if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
                     derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
-                texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
-                                  : lookup(*d.texture, u, v, derivatives, texels);
-                if (uv_row) uv_row[x] = {u, v};
+                if constexpr (general) {
+                    texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
+                                      : lookup(*d.texture, u, v, derivatives, texels);
+                    if (uv_row) uv_row[x] = {u, v};
+                } else {
+                    texel = short_path_lookup<P>(*d.texture, u, v, derivatives, texels);
+                }
             }
             color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
             ++shaded;
@@ -177,6 +223,22 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
     }
     stats.pixels_shaded += shaded;
     stats.texels_fetched += texels;
+}
+
+template <Needs N>
+void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+    if constexpr ((N & need_uv) != 0) {
+        switch (texture_path<N>(d, fb)) {
+            case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats);
+            case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats);
+            case TexturePath::trilinear:
+                if constexpr ((N & need_uv_derivatives) != 0)
+                    return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats);
+                break;
+            case TexturePath::general: break;
+        }
+    }
+    shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats);
 }
 
 void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb) {

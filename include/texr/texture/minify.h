@@ -52,15 +52,33 @@ namespace minify_detail {
     return rho2 > 0.0 ? 0.5 * double(std::log2(float(rho2))) : -1e9;  // a point footprint: full magnification
 }
 
-[[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
+namespace minify_detail {
+template <bool ShortPath>
+[[gnu::always_inline]] inline Color4 bilinear(const Image& image, const Sampler& s, double u, double v) {
+    if constexpr (ShortPath) return sample_bilinear_repeat_pow2(image, s, u, v);
+    return sample_bilinear(image, s, u, v);
+}
+
+template <bool ShortPath>
+[[gnu::always_inline]] inline Color4 trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     const int last = mip.level_count() - 1;
-    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
-    if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
+    if (!(lambda > 0.0)) return bilinear<ShortPath>(mip.base(), s, u, v);  // also NaN
+    if (lambda >= double(last)) return bilinear<ShortPath>(mip.level(last), s, u, v);
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
-    const Color4 a = sample_bilinear(mip.level(l0), s, u, v);
-    const Color4 b = sample_bilinear(mip.level(l0 + 1), s, u, v);
+    const Color4 a = bilinear<ShortPath>(mip.level(l0), s, u, v);
+    const Color4 b = bilinear<ShortPath>(mip.level(l0 + 1), s, u, v);
     return a + t * (b - a);
+}
+}  // namespace minify_detail
+
+[[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
+    return minify_detail::trilinear<false>(mip, s, u, v, lambda);
+}
+// Trilinear when takes_short_path(mip.base(), s) (then every level takes it too: the levels
+// of a power-of-two image are powers of two).
+[[gnu::always_inline]] inline Color4 sample_trilinear_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
+    return minify_detail::trilinear<true>(mip, s, u, v, lambda);
 }
 
 }  // namespace texr

@@ -74,27 +74,36 @@ namespace reconstruct_detail {
 
 }  // namespace reconstruct_detail
 
+// The short path of the default sampler (cell registration, repeat on both axes) on an
+// 8-bit power-of-two image: floor(x) mod n is the low bits of floor(x) in two's complement,
+// so no whole periods need removing. Exact for |x| < 2^52, where x - floor(x) is the exact
+// fraction; beyond that these fall back to the general path. The caller has checked
+// takes_short_path (the span loop does so once per span).
+constexpr double short_path_limit = 0x1p52;
+inline bool takes_short_path(const Image& image, const Sampler& sampler) {
+    return image.is_ldr_pow2() && sampler.repeats_cells();
+}
+
 namespace reconstruct_detail {
 
-// The short path of repeat on a power-of-two axis of n texels: floor(x) mod n is the low bits
-// of floor(x) in two's complement, so no whole periods need removing. Exact for |x| < 2^52,
-// where x - floor(x) is the exact fraction; beyond that the general path reads it as 0.
-constexpr double short_path_limit = 0x1p52;
-[[gnu::always_inline]] inline bool on_short_path(const Image& image, const Sampler& sampler, double x, double y) {
-    return image.is_ldr_pow2() && sampler.repeats_cells() && std::fabs(x) < short_path_limit &&
-           std::fabs(y) < short_path_limit;
+[[gnu::always_inline]] inline Color4 sample_nearest_general(const Image& image, const Sampler& sampler, double u, double v) {
+    const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
+    const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
+    return texel_or_border(image, sampler, i, j);
 }
 
 }  // namespace reconstruct_detail
 
-[[gnu::always_inline]] inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
-    using namespace reconstruct_detail;
+[[gnu::always_inline]] inline Color4 sample_nearest_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
     const double x = u * image.width(), y = v * image.height();
-    if (on_short_path(image, sampler, x, y))
-        return image.texel(int(floor_to_int64(x) & (image.width() - 1)), int(floor_to_int64(y) & (image.height() - 1)));
-    const int i = nearest_tap(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
-    const int j = nearest_tap(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
-    return texel_or_border(image, sampler, i, j);
+    if (!(std::fabs(x) < short_path_limit && std::fabs(y) < short_path_limit))
+        return reconstruct_detail::sample_nearest_general(image, sampler, u, v);
+    return image.texel(int(floor_to_int64(x) & (image.width() - 1)), int(floor_to_int64(y) & (image.height() - 1)));
+}
+
+[[gnu::always_inline]] inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
+    if (takes_short_path(image, sampler)) return sample_nearest_repeat_pow2(image, sampler, u, v);
+    return reconstruct_detail::sample_nearest_general(image, sampler, u, v);
 }
 
 namespace reconstruct_detail {
@@ -123,15 +132,9 @@ struct AxisTaps {
 
 }  // namespace reconstruct_detail
 
-[[gnu::always_inline]] inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
-    using namespace reconstruct_detail;
-    const double x = u * image.width() - 0.5, y = v * image.height() - 0.5;
-    if (on_short_path(image, sampler, x, y)) {
-        const std::int64_t i = floor_to_int64(x), j = floor_to_int64(y);
-        const std::int64_t mask_u = image.width() - 1, mask_v = image.height() - 1;
-        return image.blend_ldr(int(i & mask_u), int((i + 1) & mask_u), int(j & mask_v), int((j + 1) & mask_v),
-                               float(x - double(i)), float(y - double(j)));
-    }
+namespace reconstruct_detail {
+
+[[gnu::always_inline]] inline Color4 sample_bilinear_general(const Image& image, const Sampler& sampler, double u, double v) {
     const AxisTaps a = bilinear_taps(sampler.registration, sampler.wrap_u, u, image.width(), image.inv_width());
     const AxisTaps b = bilinear_taps(sampler.registration, sampler.wrap_v, v, image.height(), image.inv_height());
     if (!image.is_hdr() && (a.i0 | a.i1 | b.i0 | b.i1) >= 0)  // no border texel: the 8-bit fast path
@@ -142,6 +145,23 @@ struct AxisTaps {
     const Color4 column1 = texel_or_border(image, sampler, a.i1, b.i0) +
                            b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
     return column0 + a.f * (column1 - column0);
+}
+
+}  // namespace reconstruct_detail
+
+[[gnu::always_inline]] inline Color4 sample_bilinear_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
+    const double x = u * image.width() - 0.5, y = v * image.height() - 0.5;
+    if (!(std::fabs(x) < short_path_limit && std::fabs(y) < short_path_limit))
+        return reconstruct_detail::sample_bilinear_general(image, sampler, u, v);
+    const std::int64_t i = floor_to_int64(x), j = floor_to_int64(y);
+    const std::int64_t mask_u = image.width() - 1, mask_v = image.height() - 1;
+    return image.blend_ldr(int(i & mask_u), int((i + 1) & mask_u), int(j & mask_v), int((j + 1) & mask_v),
+                           float(x - double(i)), float(y - double(j)));
+}
+
+[[gnu::always_inline]] inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
+    if (takes_short_path(image, sampler)) return sample_bilinear_repeat_pow2(image, sampler, u, v);
+    return reconstruct_detail::sample_bilinear_general(image, sampler, u, v);
 }
 
 }  // namespace texr
