@@ -3,11 +3,14 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <map>
-#include <sstream>
+#include <string_view>
 #include <tuple>
+#include <unordered_map>
 
 #include "texr/core/error.h"
 
@@ -27,25 +30,43 @@ std::string first_line(const std::string& text) {
 }
 
 // The `usemtl` name in force for each triangle, in file order (a face of k vertices is k - 2
-// triangles, as tinyobjloader triangulates it).
-std::vector<std::string> usemtl_per_triangle(const std::string& path) {
+// triangles, as tinyobjloader triangulates it), as an index into `names`. Lines are split by
+// hand: a string stream per line made this pass slower than tinyobjloader's own parse.
+struct UsemtlNames {
+    std::vector<std::string> names{std::string()};  // names[0]: before any usemtl
+    std::vector<std::uint32_t> per_triangle;
+};
+
+UsemtlNames usemtl_per_triangle(const std::string& path) {
     std::ifstream in(path);
-    std::vector<std::string> names;
-    std::string line, current;
+    UsemtlNames out;
+    std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
+    std::uint32_t current = 0;
+    const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    std::string line;
     while (std::getline(in, line)) {
-        std::istringstream words(line);
-        std::string keyword;
-        words >> keyword;
+        std::size_t i = 0;
+        const auto skip_space = [&] { while (i < line.size() && space(line[i])) ++i; };
+        const auto next_word = [&] {  // the word at i, and i past it
+            skip_space();
+            const std::size_t start = i;
+            while (i < line.size() && !space(line[i])) ++i;
+            return std::string_view(line).substr(start, i - start);
+        };
+        const std::string_view keyword = next_word();
         if (keyword == "usemtl") {
-            std::getline(words >> std::ws, current);
-            while (!current.empty() && (current.back() == '\r' || current.back() == ' ')) current.pop_back();
+            skip_space();
+            std::string name = line.substr(i);
+            while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+            current = index_of.emplace(name, std::uint32_t(out.names.size())).first->second;
+            if (current == out.names.size()) out.names.push_back(std::move(name));
         } else if (keyword == "f") {
             std::size_t corners = 0;
-            for (std::string corner; words >> corner && corner[0] != '#';) ++corners;
-            for (std::size_t k = 2; k < corners; ++k) names.push_back(current);
+            for (std::string_view corner = next_word(); !corner.empty() && corner[0] != '#'; corner = next_word()) ++corners;
+            for (std::size_t k = 2; k < corners; ++k) out.per_triangle.push_back(current);
         }
     }
-    return names;
+    return out;
 }
 
 }  // namespace
@@ -65,7 +86,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
 
     // Each triangle's material, by name: the name its face's `usemtl` gave, whether or not
     // a .mtl file describes it (tinyobjloader forgets names it found no .mtl entry for).
-    const std::vector<std::string> names = usemtl_per_triangle(path);
+    const UsemtlNames usemtl = usemtl_per_triangle(path);
     std::map<std::string, const tinyobj::material_t*> described;
     for (const tinyobj::material_t& m : obj_materials) described[m.name] = &m;
     std::map<std::string, int> material_of;  // name -> scene material index, resolved on first use
@@ -86,6 +107,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         return index;
     };
 
+    std::vector<int> usemtl_material(usemtl.names.size(), -1);  // by name index, resolved on first use
     std::size_t total_triangles = 0;
     for (const tinyobj::shape_t& shape : reader.GetShapes()) total_triangles += shape.mesh.num_face_vertices.size();
 
@@ -93,7 +115,18 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
     mesh.has_normals = !attrib.normals.empty();
-    std::map<std::tuple<int, int, int>, std::uint32_t> vertex_of;
+    // One mesh vertex per distinct (position, normal, uv) index triple, numbered in order of
+    // first use.
+    struct CornerHash {
+        std::size_t operator()(const std::tuple<int, int, int>& k) const {
+            std::uint64_t h = std::uint32_t(std::get<0>(k));
+            h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<1>(k));
+            h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<2>(k));
+            return std::size_t(h ^ (h >> 29));
+        }
+    };
+    std::unordered_map<std::tuple<int, int, int>, std::uint32_t, CornerHash> vertex_of;
+    vertex_of.reserve(attrib.vertices.size() / 3);
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
@@ -134,14 +167,15 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             mesh.has_uv = mesh.has_uv && face_has_uv;
             mesh.has_normals = mesh.has_normals && face_has_normal;
             mesh.triangles.push_back(triangle);
-            std::string name;
-            if (names.size() == total_triangles) {
-                name = names[mesh.triangles.size() - 1];
+            if (usemtl.per_triangle.size() == total_triangles) {
+                const std::uint32_t n = usemtl.per_triangle[mesh.triangles.size() - 1];
+                if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(usemtl.names[n]);
+                mesh.triangle_material.push_back(usemtl_material[n]);
             } else {  // faces we could not count the same way: fall back to tinyobjloader's ids
                 const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
-                if (id >= 0 && id < int(obj_materials.size())) name = obj_materials[std::size_t(id)].name;
+                mesh.triangle_material.push_back(
+                    scene_material(id >= 0 && id < int(obj_materials.size()) ? obj_materials[std::size_t(id)].name : std::string()));
             }
-            mesh.triangle_material.push_back(scene_material(name));
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
