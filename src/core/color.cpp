@@ -29,16 +29,16 @@ const float* srgb8_to_linear_table() {
 // Encoding goes through a table with 2^16 linear steps: the sRGB curve's steepest slope
 // (12.92 near 0) moves the output by 12.92 * 255 / 65535 = 0.05 of a byte per step, so the
 // table gives the correctly rounded byte except within 0.05 of a rounding boundary.
-std::uint8_t linear_to_srgb8(float linear) {
+const std::uint8_t* linear_to_srgb8_table() {
     static const std::array<std::uint8_t, 65536> table = [] {
         std::array<std::uint8_t, 65536> t{};
         for (int i = 0; i < 65536; ++i)
             t[i] = std::uint8_t(std::lround(linear_to_srgb(float(i) / 65535.0f) * 255.0f));
         return t;
     }();
-    if (!(linear > 0.0f)) return 0;  // also maps NaN to black
-    if (linear >= 1.0f) return 255;
-    return table[std::size_t(linear * 65535.0f + 0.5f)];
+    return table.data();
 }
+
+std::uint8_t linear_to_srgb8(float linear) { return linear_to_srgb8(linear, linear_to_srgb8_table()); }
 
 }  // namespace texr

@@ -37,8 +37,13 @@ FrameFormat frame_format_for(const std::string& path) {
 
 std::vector<std::uint8_t> encode_srgb8(const Framebuffer& fb) {
     std::vector<std::uint8_t> rgb(std::size_t(fb.width) * std::size_t(fb.height) * 3);
-    for (std::size_t i = 0; i < fb.color.size(); ++i)
-        for (int c = 0; c < 3; ++c) rgb[3 * i + std::size_t(c)] = linear_to_srgb8(fb.color[i][c]);
+    const std::uint8_t* table = linear_to_srgb8_table();
+    for (std::size_t i = 0; i < fb.color.size(); ++i) {
+        const Color& c = fb.color[i];
+        rgb[3 * i] = linear_to_srgb8(c.x, table);
+        rgb[3 * i + 1] = linear_to_srgb8(c.y, table);
+        rgb[3 * i + 2] = linear_to_srgb8(c.z, table);
+    }
     return rgb;
 }
 

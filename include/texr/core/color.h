@@ -3,6 +3,7 @@
 //   linear = c / 12.92                    for c <= 0.04045
 //   linear = ((c + 0.055) / 1.055)^2.4     otherwise
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -19,6 +20,14 @@ float linear_to_srgb(float linear);
 const float* srgb8_to_linear_table();
 
 // Linear [0, 1] to an 8-bit sRGB byte, rounded to nearest; values outside [0, 1] clamp.
+// Through a table of 2^16 linear steps (see color.cpp); a loop over many values takes
+// the table once and calls the inline form.
 std::uint8_t linear_to_srgb8(float linear);
+const std::uint8_t* linear_to_srgb8_table();
+inline std::uint8_t linear_to_srgb8(float linear, const std::uint8_t* table) {
+    if (!(linear > 0.0f)) return 0;  // also maps NaN to black
+    if (linear >= 1.0f) return 255;
+    return table[std::size_t(linear * 65535.0f + 0.5f)];
+}
 
 }  // namespace texr
