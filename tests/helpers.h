@@ -63,7 +63,8 @@ inline bool file_exists(const std::string& path) { return bool(std::ifstream(pat
 
 inline std::string source_path(const std::string& relative) { return std::string(TEXR_SOURCE_DIR) + "/" + relative; }
 
-// A fresh, empty folder under the build's temporary directory.
+// A fresh, empty folder texr-test-NAME in the working folder (ctest runs the tests in the
+// build folder; .gitignore keeps any made elsewhere out of the repository).
 inline std::string scratch_folder(const std::string& name) {
     const std::string path = "texr-test-" + name;
     std::system(("rm -rf '" + path + "' && mkdir -p '" + path + "'").c_str());
