@@ -6,32 +6,6 @@
 
 namespace texr {
 
-std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& s) {
-    // Row i of adj(S) is the edge function of the edge opposite vertex i:
-    //   lambda_0 * det = (y1 - y2) x + (x2 - x1) y + (x1 y2 - x2 y1), and cyclically.
-    const double det = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
-    const double inv_det = 1.0 / det;  // one division per triangle, not nine
-    std::array<Plane, 3> planes;
-    for (int i = 0; i < 3; ++i) {
-        const glm::dvec2& a = s[(i + 1) % 3];
-        const glm::dvec2& b = s[(i + 2) % 3];
-        planes[i] = {(a.y - b.y) * inv_det, (b.x - a.x) * inv_det, (a.x * b.y - b.x * a.y) * inv_det};
-    }
-    return planes;
-}
-
-Plane over_w_plane(const std::array<Plane, 3>& barycentric, const std::array<double, 3>& value,
-                   const std::array<double, 3>& inv_w) {
-    Plane p{0.0, 0.0, 0.0};
-    for (int i = 0; i < 3; ++i) {
-        const double k = value[i] * inv_w[i];
-        p.dx += k * barycentric[i].dx;
-        p.dy += k * barycentric[i].dy;
-        p.c += k * barycentric[i].c;
-    }
-    return p;
-}
-
 TextureHomography texture_homography(const std::array<glm::dvec2, 3>& screen,
                                      const std::array<double, 3>& inv_w,
                                      const std::array<glm::dvec2, 3>& uv) {

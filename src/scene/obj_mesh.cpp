@@ -3,7 +3,6 @@
 
 #include <tiny_obj_loader.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -42,7 +41,7 @@ UsemtlNames usemtl_per_triangle(const std::string& path) {
     UsemtlNames out;
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
-    const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
     std::string line;
     while (std::getline(in, line)) {
         std::size_t i = 0;

@@ -21,12 +21,34 @@ namespace texr {
 
 // Screen-space barycentric planes: lambda_i(x, y) for a triangle with the given screen
 // vertices (rows of adj(S) / det(S)). Requires det(S) != 0.
-std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& screen);
+// (Inline: triangle setup calls these for every triangle.)
+inline std::array<Plane, 3> barycentric_planes(const std::array<glm::dvec2, 3>& s) {
+    // Row i of adj(S) is the edge function of the edge opposite vertex i:
+    //   lambda_0 * det = (y1 - y2) x + (x2 - x1) y + (x1 y2 - x2 y1), and cyclically.
+    const double det = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+    const double inv_det = 1.0 / det;  // one division per triangle, not nine
+    std::array<Plane, 3> planes;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec2& a = s[std::size_t((i + 1) % 3)];
+        const glm::dvec2& b = s[std::size_t((i + 2) % 3)];
+        planes[std::size_t(i)] = {(a.y - b.y) * inv_det, (b.x - a.x) * inv_det, (a.x * b.y - b.x * a.y) * inv_det};
+    }
+    return planes;
+}
 
 // A perspective-correct attribute: plane of a/w, from the vertex values a_i and 1/w_i.
 // value = plane / q-plane at any pixel.
-Plane over_w_plane(const std::array<Plane, 3>& barycentric, const std::array<double, 3>& value,
-                   const std::array<double, 3>& inv_w);
+inline Plane over_w_plane(const std::array<Plane, 3>& barycentric, const std::array<double, 3>& value,
+                          const std::array<double, 3>& inv_w) {
+    Plane p{0.0, 0.0, 0.0};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const double k = value[i] * inv_w[i];
+        p.dx += k * barycentric[i].dx;
+        p.dy += k * barycentric[i].dy;
+        p.c += k * barycentric[i].c;
+    }
+    return p;
+}
 
 struct TextureHomography {
     Plane u_prime, v_prime, q;  // rows of M^-1
