@@ -117,14 +117,14 @@ struct SteppedVector {
 
 // How a span reads its texture. `general` serves every case; the others are the short paths
 // of the default sampler on a power-of-two 8-bit texture (reconstruct.h), taken when the
-// span steps (u, v) itself and records nothing: the choice is made once per span, so the
-// pixel loop carries no test of filter, wrap, registration or instrumentation.
+// span records nothing: the choice is made once per span, so the pixel loop carries no
+// test of filter, wrap, registration or instrumentation.
 enum class TexturePath { general, nearest, bilinear, trilinear };
 
 template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if constexpr ((N & need_uv) == 0) return TexturePath::general;
-    if (d.span_mode != SpanMode::incremental || d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
+    if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
     const Texture& t = *d.texture;
     if (!takes_short_path(*t.image, t.sampler)) return TexturePath::general;
     switch (t.sampler.filter) {
@@ -165,8 +165,8 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     const int x0 = span.x0;
     // Texture coordinates: stepped here (incremental), or precomputed for the span by
     // another span mode, which may need no divide per pixel at all.
-    const bool stepped_uv = (N & need_uv) != 0 && (!general || d.span_mode == SpanMode::incremental);
-    if constexpr ((N & need_uv) != 0 && general)
+    const bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
+    if constexpr ((N & need_uv) != 0)
         if (!stepped_uv) {
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
