@@ -247,6 +247,11 @@ TEST_CASE("an OBJ usemtl name picks the scene material of that name, with or wit
     CHECK(r.output.find("material 'red'") != std::string::npos);
     r = run_texr("explain " + dir + "/scene.txt 5 2");
     CHECK(r.output.find("material 'blue'") != std::string::npos);
+    // A usemtl line without a name (spaces, a tab, CR) leaves the material in force.
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nv 1 1 0\nusemtl red\nf 1 2 3\nusemtl \t \r\nf 2 4 3\n");
+    r = run_texr("explain " + dir + "/scene.txt 5 2");
+    CAPTURE(r.output);
+    CHECK(r.output.find("material 'red'") != std::string::npos);
 }
 
 TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line once") {

@@ -221,6 +221,16 @@ TEST_CASE("the short path for repeat on power-of-two 8-bit images reads what the
         return double(state >> 11) * 0x1p-53;
     };
     const Sampler s = sampler(Filter::bilinear, Wrap::repeat, Registration::cell);
+    // Both paths agree also where rounding is hardest: just below 0 and below a whole
+    // period (the texel before the seam), and from 1e15 texels on, where both read 0.
+    for (double u : {-1e-17, -1e-300, 1.0 - 1e-17, 3.0 - 1e-16, 1.25e14 + 0.125, 5e14, 1e16, -3e17}) {
+        CAPTURE(u);
+        CHECK(sample_nearest(ldr, s, u, 0.3).x == sample_nearest(hdr, s, u, 0.3).x);
+        CHECK(sample_bilinear(ldr, s, u, 0.3).x == sample_bilinear(hdr, s, u, 0.3).x);
+        CHECK(sample_nearest(ldr, s, 0.3, u).x == sample_nearest(hdr, s, 0.3, u).x);
+        CHECK(sample_bilinear(ldr, s, 0.3, u).x == sample_bilinear(hdr, s, 0.3, u).x);
+    }
+    CHECK(sample_nearest(ldr, s, -1e-17, 0.3).x == texel(w - 1, 1));  // floor(-tiny) = -1: the last column
     for (double scale : {1.0, 100.0, 1e4, 1e7})
         for (int n = 0; n < 2000; ++n) {
             const double u = (2.0 * random() - 1.0) * scale, v = (2.0 * random() - 1.0) * scale;

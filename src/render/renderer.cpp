@@ -13,6 +13,8 @@
 #include <mutex>
 #include <thread>
 
+#include <unistd.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
@@ -127,8 +129,15 @@ private:
 // uses the pool at a time. stop() ends the threads (stop_render_threads, before a fork).
 class WorkerPool {
 public:
+    // Never destroyed: idle threads end with the process. A child made by fork() has none of
+    // its parent's threads, so it gets a pool of its own (stop_render_threads before fork()
+    // leaves nothing behind; this keeps a fork without it from waiting forever).
     static WorkerPool& instance() {
-        static WorkerPool* pool = new WorkerPool();  // never destroyed: idle threads end with the process
+        static std::mutex mutex;
+        static WorkerPool* pool = nullptr;
+        static pid_t owner = 0;
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!pool || owner != getpid()) pool = new WorkerPool(), owner = getpid();
         return *pool;
     }
 

@@ -55,6 +55,7 @@ UsemtlNames usemtl_per_triangle(const std::string& path) {
         const std::string_view keyword = next_word();
         if (keyword == "usemtl") {
             skip_space();
+            if (i == line.size()) continue;  // no name: the material in force stays
             std::string name = line.substr(i);
             while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
             current = index_of.emplace(name, std::uint32_t(out.names.size())).first->second;

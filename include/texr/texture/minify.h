@@ -45,11 +45,8 @@ namespace minify_detail {
 [[gnu::always_inline]] inline double level_of_detail(const UVDerivatives& d, int width, int height) {
     using minify_detail::squared_texels;
     // lambda = log2(max(rho_x, rho_y)) = log2(max(rho_x^2, rho_y^2)) / 2: one log, no roots.
-    // The log is taken in float: lambda's fraction is a blend weight, and float's 24 bits
-    // put it within 1e-7 of the double value (rho^2 beyond float's range becomes +inf, the
-    // coarsest level, or 0, the base level: both what such a footprint reads).
     const double rho2 = std::max(squared_texels(d.dudx, d.dvdx, width, height), squared_texels(d.dudy, d.dvdy, width, height));
-    return rho2 > 0.0 ? 0.5 * double(std::log2(float(rho2))) : -1e9;  // a point footprint: full magnification
+    return rho2 > 0.0 ? 0.5 * std::log2(rho2) : -1e9;  // a point footprint: full magnification
 }
 
 namespace minify_detail {

@@ -76,10 +76,11 @@ namespace reconstruct_detail {
 
 // The short path of the default sampler (cell registration, repeat on both axes) on an
 // 8-bit power-of-two image: floor(x) mod n is the low bits of floor(x) in two's complement,
-// so no whole periods need removing. Exact for |x| < 2^52, where x - floor(x) is the exact
-// fraction; beyond that these fall back to the general path. The caller has checked
-// takes_short_path (the span loop does so once per span).
-constexpr double short_path_limit = 0x1p52;
+// so no whole periods need removing. x - floor(x) is the exact fraction for |x| < 2^52;
+// the short path stops where the general one stops reading fractions (reduce_lattice:
+// beyond 1e15 texels a coordinate reads as 0), so the two agree everywhere. The caller has
+// checked takes_short_path (the span loop does so once per span).
+constexpr double short_path_limit = 1e15;
 inline bool takes_short_path(const Image& image, const Sampler& sampler) {
     return image.is_ldr_pow2() && sampler.repeats_cells();
 }

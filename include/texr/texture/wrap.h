@@ -104,10 +104,19 @@ inline double reduce_lattice(Wrap mode, double x, int n, double inv_n, bool node
             const double inv_p = node ? 1.0 / p : inv_n;
             const double period = mode == Wrap::repeat ? double(p) : 2.0 * double(p);
             const double inv_period = mode == Wrap::repeat ? inv_p : 0.5 * inv_p;
-            double r = x - period * fast_floor(x * inv_period);
-            // x * inv_period is rounded: put r back into [0, period) if it slipped out.
-            if (r < 0.0) r += period;
-            else if (r >= period) r -= period;
+            const double k = fast_floor(x * inv_period);
+            double r = x - period * k;
+            // x * inv_period is rounded, so k may be one off: put r back into [0, period). A
+            // remainder within half an ulp below period rounds up to period itself, which
+            // would read as the start of the next period instead of the end of this one: it
+            // becomes the largest double below period.
+            if (r < 0.0) {  // k one too big
+                r += period;
+                if (r >= period) r = std::nextafter(period, 0.0);
+            } else if (r >= period) {  // k one too small, or r rounded up to period
+                const double next = x - period * (k + 1.0);
+                r = next >= 0.0 ? next : std::nextafter(period, 0.0);
+            }
             return r;
         }
         case Wrap::clamp:
