@@ -119,7 +119,7 @@ struct SteppedVector {
 // of the default sampler on a power-of-two 8-bit texture (reconstruct.h), taken when the
 // span records nothing: the choice is made once per span, so the pixel loop carries no
 // test of filter, wrap, registration or instrumentation.
-enum class TexturePath { general, nearest, bilinear, trilinear };
+enum class TexturePath { general, nearest, bilinear, nearest_mip_nearest, bilinear_mip_nearest, trilinear };
 
 template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
@@ -130,8 +130,14 @@ TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     switch (t.sampler.filter) {
         case Filter::nearest: return TexturePath::nearest;
         case Filter::bilinear: return TexturePath::bilinear;
+        case Filter::nearest_mip_nearest:
+        case Filter::bilinear_mip_nearest:
         case Filter::trilinear:
-            if constexpr ((N & need_uv_derivatives) != 0) return TexturePath::trilinear;
+            if constexpr ((N & need_uv_derivatives) != 0) {
+                if (t.sampler.filter == Filter::trilinear) return TexturePath::trilinear;
+                return t.sampler.filter == Filter::nearest_mip_nearest ? TexturePath::nearest_mip_nearest
+                                                                       : TexturePath::bilinear_mip_nearest;
+            }
             return TexturePath::general;
         default: return TexturePath::general;
     }
@@ -147,6 +153,11 @@ template <TexturePath P>
     } else if constexpr (P == TexturePath::bilinear) {
         texels += 4;
         return sample_bilinear_repeat_pow2(*t.image, t.sampler, u, v);
+    } else if constexpr (P == TexturePath::nearest_mip_nearest || P == TexturePath::bilinear_mip_nearest) {
+        constexpr bool bilinear = P == TexturePath::bilinear_mip_nearest;
+        const MipMap& mip = *t.mipmap;
+        texels += bilinear ? 4 : 1;
+        return sample_mip_nearest_repeat_pow2(mip, t.sampler, u, v, level_of_detail(d, mip.base().width(), mip.base().height()), bilinear);
     } else {
         const MipMap& mip = *t.mipmap;
         const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
@@ -231,6 +242,14 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
         switch (texture_path<N>(d, fb)) {
             case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats);
             case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats);
+            case TexturePath::nearest_mip_nearest:
+                if constexpr ((N & need_uv_derivatives) != 0)
+                    return shade_span_on<N, TexturePath::nearest_mip_nearest>(d, s, y, span, fb, stats);
+                break;
+            case TexturePath::bilinear_mip_nearest:
+                if constexpr ((N & need_uv_derivatives) != 0)
+                    return shade_span_on<N, TexturePath::bilinear_mip_nearest>(d, s, y, span, fb, stats);
+                break;
             case TexturePath::trilinear:
                 if constexpr ((N & need_uv_derivatives) != 0)
                     return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats);

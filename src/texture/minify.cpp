@@ -8,21 +8,6 @@
 
 namespace texr {
 
-Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    // OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1. An infinite
-    // footprint reads the coarsest level; NaN reads the base.
-    const int last = mip.level_count() - 1;
-    int level = 0;
-    if (lambda >= double(last)) level = last;
-    else if (lambda > 0.5) {
-        level = int(lambda + 0.5);                     // = ceil(lambda + 1/2) - 1 ...
-        if (double(level) == lambda + 0.5) --level;  // ... also when lambda + 1/2 is whole
-        level = std::min(last, level);
-    }
-    const Image& image = mip.level(level);
-    return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
-}
-
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     const double w = mip.base().width(), h = mip.base().height();
     const double rho_x = std::sqrt(minify_detail::squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(minify_detail::squared_texels(d.dudy, d.dvdy, w, h));

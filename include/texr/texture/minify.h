@@ -21,7 +21,7 @@ double level_of_detail(const UVDerivatives& d, int width, int height);  // defin
 
 // GL_NEAREST_MIPMAP_NEAREST / GL_LINEAR_MIPMAP_NEAREST: the level nearest to lambda, read
 // with nearest or bilinear reconstruction. lambda <= 0 is magnification: the base level.
-Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear);
+Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear);  // defined below
 
 // GL_LINEAR_MIPMAP_LINEAR: bilinear in levels floor(lambda) and floor(lambda) + 1, blended by
 // the fraction of lambda.
@@ -50,6 +50,29 @@ namespace minify_detail {
 }
 
 namespace minify_detail {
+
+// OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1. An infinite
+// footprint reads the coarsest level; NaN reads the base.
+[[gnu::always_inline]] inline int nearest_level(const MipMap& mip, double lambda) {
+    const int last = mip.level_count() - 1;
+    int level = 0;
+    if (lambda >= double(last)) level = last;
+    else if (lambda > 0.5) {
+        level = int(lambda + 0.5);                     // = ceil(lambda + 1/2) - 1 ...
+        if (double(level) == lambda + 0.5) --level;  // ... also when lambda + 1/2 is whole
+        level = std::min(last, level);
+    }
+    return level;
+}
+
+template <bool ShortPath>
+[[gnu::always_inline]] inline Color4 mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
+    const Image& image = mip.level(nearest_level(mip, lambda));
+    if constexpr (ShortPath)
+        return bilinear ? sample_bilinear_repeat_pow2(image, s, u, v) : sample_nearest_repeat_pow2(image, s, u, v);
+    return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
+}
+
 template <bool ShortPath>
 [[gnu::always_inline]] inline Color4 bilinear(const Image& image, const Sampler& s, double u, double v) {
     if constexpr (ShortPath) return sample_bilinear_repeat_pow2(image, s, u, v);
@@ -68,6 +91,14 @@ template <bool ShortPath>
     return a + t * (b - a);
 }
 }  // namespace minify_detail
+
+[[gnu::always_inline]] inline Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
+    return minify_detail::mip_nearest<false>(mip, s, u, v, lambda, bilinear);
+}
+// The nearest level when takes_short_path(mip.base(), s) (see sample_trilinear_repeat_pow2).
+[[gnu::always_inline]] inline Color4 sample_mip_nearest_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
+    return minify_detail::mip_nearest<true>(mip, s, u, v, lambda, bilinear);
+}
 
 [[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     return minify_detail::trilinear<false>(mip, s, u, v, lambda);
