@@ -40,7 +40,6 @@ double peak_rss_mb() {
 ScaleRow in_child(const std::function<ScaleRow()>& measure) {
     int fds[2];
     if (pipe(fds) != 0) return measure();
-    stop_render_threads();  // fork from a process of one thread
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);

@@ -9,11 +9,8 @@
 #include <cmath>
 #include <condition_variable>
 #include <exception>
-#include <functional>
 #include <mutex>
 #include <thread>
-
-#include <unistd.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
@@ -122,88 +119,6 @@ private:
     std::atomic<int> generation_{0};
 };
 
-// Threads kept from frame to frame: starting and joining a thread per worker cost about
-// a tenth of a millisecond per frame, a few percent of a short frame on two threads.
-// run(n, job) calls job(0) on the caller and job(1 .. n - 1) on pool threads, and returns
-// when all are done. job must not throw (render's workers catch everything). One frame
-// uses the pool at a time. stop() ends the threads (stop_render_threads, before a fork).
-class WorkerPool {
-public:
-    // Never destroyed: idle threads end with the process. A child made by fork() has none of
-    // its parent's threads, so it gets a pool of its own (stop_render_threads before fork()
-    // leaves nothing behind; this keeps a fork without it from waiting forever).
-    static WorkerPool& instance() {
-        static std::mutex mutex;
-        static WorkerPool* pool = nullptr;
-        static pid_t owner = 0;
-        const std::lock_guard<std::mutex> lock(mutex);
-        if (!pool || owner != getpid()) pool = new WorkerPool(), owner = getpid();
-        return *pool;
-    }
-
-    void run(int n, const std::function<void(int)>& job) {
-        const std::lock_guard<std::mutex> frame(frame_mutex_);
-        grow(n - 1);  // may throw (a thread could not start): then nothing has started
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            job_ = &job, active_ = n - 1, pending_ = n - 1, ++generation_;
-        }
-        started_.notify_all();
-        job(0);
-        std::unique_lock<std::mutex> lock(mutex_);
-        finished_.wait(lock, [&] { return pending_ == 0; });
-        job_ = nullptr;
-    }
-
-    // Ends the pool's threads (the next frame starts them again).
-    void stop() {
-        const std::lock_guard<std::mutex> frame(frame_mutex_);
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            stopping_ = true;
-        }
-        started_.notify_all();
-        for (std::thread& t : threads_) t.join();
-        threads_.clear();
-        stopping_ = false;
-    }
-
-private:
-    void grow(int count) {
-        while (int(threads_.size()) < count) {
-            const int index = int(threads_.size()) + 1;  // the job index this thread runs
-            threads_.emplace_back([this, index] { loop(index); });
-        }
-    }
-
-    void loop(int index) {
-        long seen = 0;
-        for (;;) {
-            const std::function<void(int)>* job = nullptr;
-            {
-                std::unique_lock<std::mutex> lock(mutex_);
-                started_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-                if (stopping_) return;
-                seen = generation_;
-                if (index <= active_) job = job_;
-            }
-            if (!job) continue;  // this frame needs fewer threads
-            (*job)(index);
-            const std::lock_guard<std::mutex> lock(mutex_);
-            if (--pending_ == 0) finished_.notify_one();
-        }
-    }
-
-    std::mutex frame_mutex_;  // one frame at a time
-    std::mutex mutex_;
-    std::condition_variable started_, finished_;
-    std::vector<std::thread> threads_;
-    const std::function<void(int)>* job_ = nullptr;
-    int active_ = 0, pending_ = 0;
-    long generation_ = 0;
-    bool stopping_ = false;
-};
-
 int thread_count(int requested) {
     if (requested > 0) return requested;
     return std::max(1, int(std::thread::hardware_concurrency()));
@@ -223,8 +138,6 @@ struct alignas(64) WorkerSlot {
 constexpr std::size_t chunk_triangles = 4096;
 
 }  // namespace
-
-void stop_render_threads() { WorkerPool::instance().stop(); }
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
     const int width = options.width > 0 ? options.width : scene.width;
@@ -301,8 +214,17 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
             barrier.abandon();
         }
     };
-    if (workers == 1) guarded(0);
-    else WorkerPool::instance().run(workers, guarded);  // a thread that cannot start throws before any work
+    std::vector<std::thread> threads;
+    threads.reserve(std::size_t(workers - 1));
+    try {
+        for (int t = 1; t < workers; ++t) threads.emplace_back(guarded, t);
+    } catch (...) {  // a thread could not be started: release and join the others, then report
+        barrier.abandon();
+        for (std::thread& t : threads) t.join();
+        throw;
+    }
+    guarded(0);
+    for (std::thread& t : threads) t.join();
     for (const std::exception_ptr& e : failures)
         if (e) std::rethrow_exception(e);
     for (const WorkerSlot& slot : slots) stats.add_counters(slot.counts);

@@ -28,10 +28,6 @@ struct RenderOptions {
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);
 
-// render() keeps its worker threads between frames. This ends them (the next frame starts
-// them again): call it before fork(), so that the child starts from a process of one thread.
-void stop_render_threads();
-
 // Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
 // y up, looking down -z, clip z in [-w, w]).
 glm::dmat4 view_matrix(const Camera& camera);
