@@ -121,9 +121,15 @@ struct SteppedVector {
 // test of filter, wrap, registration or instrumentation.
 enum class TexturePath { general, nearest, bilinear, nearest_mip_nearest, bilinear_mip_nearest, trilinear };
 
+// The short paths are compiled for textured materials with or without lighting normals;
+// vertex colours or world positions (rarer, and each one more copy of the span loop to
+// compile) take the general path.
+template <Needs N>
+constexpr bool has_short_paths = (N & need_uv) != 0 && (N & (need_color | need_world_position)) == 0;
+
 template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
-    if constexpr ((N & need_uv) == 0) return TexturePath::general;
+    if constexpr (!has_short_paths<N>) return TexturePath::general;
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
     const Texture& t = *d.texture;
     if (!takes_short_path(*t.image, t.sampler)) return TexturePath::general;
@@ -238,7 +244,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
 
 template <Needs N>
 void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
-    if constexpr ((N & need_uv) != 0) {
+    if constexpr (has_short_paths<N>) {
         switch (texture_path<N>(d, fb)) {
             case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats);
             case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats);

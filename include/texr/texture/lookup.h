@@ -5,7 +5,6 @@
 
 #include "texr/raster/homography.h"
 #include "texr/scene/scene.h"
-#include "texr/texture/minify.h"
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
@@ -14,18 +13,13 @@ namespace texr {
 Color4 lookup_footprint(const Texture& texture, double u, double v, const UVDerivatives& d, std::uint64_t& texels);
 
 // (u, v) and their exact screen derivatives (ignored by filters without a footprint).
-// Adds the number of texels read to `texels`. Nearest, bilinear and trilinear are compiled
-// in place.
+// Adds the number of texels read to `texels`. Nearest and bilinear are compiled in place,
+// in their general form: the span loop takes the short paths of power-of-two textures
+// itself (scanline.h), and this keeps the many span loops it compiles small.
 [[gnu::always_inline]] inline Color4 lookup(const Texture& t, double u, double v, const UVDerivatives& d, std::uint64_t& texels) {
     switch (t.sampler.filter) {
-        case Filter::nearest: texels += 1; return sample_nearest(*t.image, t.sampler, u, v);
-        case Filter::bilinear: texels += 4; return sample_bilinear(*t.image, t.sampler, u, v);
-        case Filter::trilinear: {
-            const MipMap& mip = *t.mipmap;
-            const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
-            texels += (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;  // one level or two
-            return sample_trilinear(mip, t.sampler, u, v, lambda);
-        }
+        case Filter::nearest: texels += 1; return reconstruct_detail::sample_nearest_general(*t.image, t.sampler, u, v);
+        case Filter::bilinear: texels += 4; return reconstruct_detail::sample_bilinear_general(*t.image, t.sampler, u, v);
         default: return lookup_footprint(t, u, v, d, texels);
     }
 }
