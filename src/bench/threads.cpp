@@ -25,29 +25,15 @@ std::vector<ThreadRow> bench_threads(const BenchOptions& o) {
     std::vector<ThreadRow> rows;
     for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear, Filter::ewa}) {
         for (Texture& t : scene.textures) t.sampler.filter = filter;
-        // One frame on 1 thread, then one on every core, alternately: the host's drift
-        // (this machine is shared) then weighs on both medians alike, and their ratio, the
-        // speed-up, holds still from run to run.
-        const int counts[2] = {1, most};
-        RenderOptions options[2];
-        std::vector<double> times[2];
-        RenderStats stats[2];
-        for (int k = 0; k < 2; ++k) {
-            options[k].width = o.width, options[k].height = o.height, options[k].threads = counts[k];
-            render(scene, options[k], stats[k]);  // warm-up
-        }
-        for (int r = 0; r < o.repeat; ++r)
-            for (int k = 0; k < 2; ++k) {
-                stats[k] = RenderStats{};
-                const auto start = Clock::now();
-                render(scene, options[k], stats[k]);
-                times[k].push_back(ms_since(start));
-            }
-        const double single_ms = median(times[0]);
-        for (int k = 0; k < 2; ++k) {
-            const double ms = median(times[k]);
-            rows.push_back({filter_name(filter), counts[k], ms, double(stats[k].pixels_shaded) / (ms * 1e3), single_ms / ms});
-            std::fprintf(stderr, "bench threads: %-10s %d thread(s): %8.2f ms %8.1f Mpx/s  x%.2f\n", filter_name(filter), counts[k],
+        double single_ms = 0.0;
+        for (int threads : {1, most}) {
+            RenderOptions options;
+            options.width = o.width, options.height = o.height, options.threads = threads;
+            RenderStats stats;
+            const double ms = timed_median(scene, options, o.repeat, stats);
+            if (threads == 1) single_ms = ms;
+            rows.push_back({filter_name(filter), threads, ms, double(stats.pixels_shaded) / (ms * 1e3), single_ms / ms});
+            std::fprintf(stderr, "bench threads: %-10s %d thread(s): %8.2f ms %8.1f Mpx/s  x%.2f\n", filter_name(filter), threads,
                          ms, rows.back().mpix_per_s, rows.back().scaling);
         }
     }
