@@ -115,15 +115,15 @@ struct SteppedVector {
     void advance() { p[0].advance(), p[1].advance(), p[2].advance(); }
 };
 
-// How a span reads its texture. `general` serves every case; the others are the short paths
-// of the default sampler on a power-of-two 8-bit texture (reconstruct.h), taken when the
-// span records nothing: the choice is made once per span, so the pixel loop carries no
-// test of filter, wrap, registration or instrumentation.
+// How a triangle's spans read its texture. `general` serves every case; the others are the
+// short paths of the default sampler on a power-of-two 8-bit texture (reconstruct.h), taken
+// when the spans record nothing: the choice is made once per triangle, so the pixel loop
+// carries no test of filter, wrap, registration or instrumentation.
 enum class TexturePath { general, nearest, bilinear, nearest_mip_nearest, bilinear_mip_nearest, trilinear };
 
 // The short paths are compiled for textured materials with or without lighting normals;
 // vertex colours or world positions (rarer, and each one more copy of the span loop to
-// compile) take the general path.
+// compile) take the general path. The mip filters need the derivatives.
 template <Needs N>
 constexpr bool has_short_paths = (N & need_uv) != 0 && (N & (need_color | need_world_position)) == 0;
 
@@ -133,18 +133,13 @@ TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
     const Texture& t = *d.texture;
     if (!takes_short_path(*t.image, t.sampler)) return TexturePath::general;
+    constexpr bool footprint = (N & need_uv_derivatives) != 0;
     switch (t.sampler.filter) {
         case Filter::nearest: return TexturePath::nearest;
         case Filter::bilinear: return TexturePath::bilinear;
-        case Filter::nearest_mip_nearest:
-        case Filter::bilinear_mip_nearest:
-        case Filter::trilinear:
-            if constexpr ((N & need_uv_derivatives) != 0) {
-                if (t.sampler.filter == Filter::trilinear) return TexturePath::trilinear;
-                return t.sampler.filter == Filter::nearest_mip_nearest ? TexturePath::nearest_mip_nearest
-                                                                       : TexturePath::bilinear_mip_nearest;
-            }
-            return TexturePath::general;
+        case Filter::nearest_mip_nearest: return footprint ? TexturePath::nearest_mip_nearest : TexturePath::general;
+        case Filter::bilinear_mip_nearest: return footprint ? TexturePath::bilinear_mip_nearest : TexturePath::general;
+        case Filter::trilinear: return footprint ? TexturePath::trilinear : TexturePath::general;
         default: return TexturePath::general;
     }
 }
@@ -167,7 +162,7 @@ template <TexturePath P>
     } else {
         const MipMap& mip = *t.mipmap;
         const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
-        texels += (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;  // one level or two
+        texels += trilinear_texels(mip, lambda);
         return sample_trilinear_repeat_pow2(mip, t.sampler, u, v, lambda);
     }
 }
@@ -243,26 +238,26 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
 }
 
 template <Needs N>
-void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
+                TexturePath path) {
     if constexpr (has_short_paths<N>) {
-        switch (texture_path<N>(d, fb)) {
+        switch (path) {
             case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats);
             case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats);
             case TexturePath::nearest_mip_nearest:
-                if constexpr ((N & need_uv_derivatives) != 0)
-                    return shade_span_on<N, TexturePath::nearest_mip_nearest>(d, s, y, span, fb, stats);
-                break;
             case TexturePath::bilinear_mip_nearest:
-                if constexpr ((N & need_uv_derivatives) != 0)
-                    return shade_span_on<N, TexturePath::bilinear_mip_nearest>(d, s, y, span, fb, stats);
-                break;
             case TexturePath::trilinear:
-                if constexpr ((N & need_uv_derivatives) != 0)
-                    return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats);
+                if constexpr ((N & need_uv_derivatives) != 0) {  // texture_path chose them only then
+                    if (path == TexturePath::trilinear) return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats);
+                    if (path == TexturePath::nearest_mip_nearest)
+                        return shade_span_on<N, TexturePath::nearest_mip_nearest>(d, s, y, span, fb, stats);
+                    return shade_span_on<N, TexturePath::bilinear_mip_nearest>(d, s, y, span, fb, stats);
+                }
                 break;
             case TexturePath::general: break;
         }
     }
+    (void)path;
     shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats);
 }
 
@@ -276,6 +271,7 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
 
 template <Needs N>
 void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
+    const TexturePath path = texture_path<N>(d, fb);
     for (int y = rows.first_owned(s.first_row); y <= s.last_row; y = rows.next_owned(y)) {
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
@@ -285,7 +281,7 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         const float depth_before = explained ? fb.depth[fb.index(d.explain->x, y)] : 0.0f;
         if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
             for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
-        shade_span<N>(d, s, y, span, fb, stats);
+        shade_span<N>(d, s, y, span, fb, stats, path);
         if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record(d, s, fb);
     }
 }

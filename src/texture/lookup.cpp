@@ -22,7 +22,7 @@ Color4 lookup_footprint(const Texture& t, double u, double v, const UVDerivative
             return sample_mip_nearest(mip, s, u, v, level_of_detail(d, mip.base().width(), mip.base().height()), true);
         case Filter::trilinear: {
             const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
-            texels += (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;  // one level or two
+            texels += std::uint64_t(trilinear_texels(mip, lambda));
             return sample_trilinear(mip, s, u, v, lambda);
         }
         case Filter::anisotropic: {

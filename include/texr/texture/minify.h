@@ -100,6 +100,12 @@ template <bool ShortPath>
     return minify_detail::mip_nearest<true>(mip, s, u, v, lambda, bilinear);
 }
 
+// The texels trilinear reads at lambda: one level's four at either end of the pyramid,
+// two levels' eight between.
+inline int trilinear_texels(const MipMap& mip, double lambda) {
+    return (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;
+}
+
 [[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     return minify_detail::trilinear<false>(mip, s, u, v, lambda);
 }

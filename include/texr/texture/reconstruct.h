@@ -79,7 +79,7 @@ namespace reconstruct_detail {
 // so no whole periods need removing. x - floor(x) is the exact fraction for |x| < 2^52;
 // the short path stops where the general one stops reading fractions (reduce_lattice:
 // beyond 1e15 texels a coordinate reads as 0), so the two agree everywhere. The caller has
-// checked takes_short_path (the span loop does so once per span).
+// checked takes_short_path (the span walk does so once per triangle).
 constexpr double short_path_limit = 1e15;
 inline bool takes_short_path(const Image& image, const Sampler& sampler) {
     return image.is_ldr_pow2() && sampler.repeats_cells();

@@ -77,17 +77,13 @@ inline int wrap_index(Wrap mode, int i, int n, bool node = false) {
     return 0;
 }
 
-// floor() for |x| < 2^62 without a library call (x86-64's baseline has no rounding opcode).
-inline double fast_floor(double x) {
-    const double t = double(static_cast<long long>(x));
-    return t > x ? t - 1.0 : t;
-}
-
-// floor(x) as a 64-bit integer, for |x| < 2^62.
+// floor() for |x| < 2^62 without a library call (x86-64's baseline has no rounding opcode),
+// as a 64-bit integer and as a double.
 inline std::int64_t floor_to_int64(double x) {
     const std::int64_t t = static_cast<std::int64_t>(x);
     return t - (double(t) > x);
 }
+inline double fast_floor(double x) { return double(floor_to_int64(x)); }
 
 // Brings a lattice coordinate x (in texels) into a small range that the mode treats the
 // same: whole periods (p = n texels for repeat, 2n for mirror; n - 1 and 2(n - 1) with node
