@@ -160,6 +160,29 @@ TEST_CASE("level of detail is 0 at one texel per pixel and 1 at two, whatever th
     CHECK(level_of_detail({1.0 / 256, 0.0, 0.0, 4.0 / 256}, 256, 256) == doctest::Approx(2.0));
 }
 
+TEST_CASE("the level of detail's log2 is within 2e-9 of std::log2 and exact at powers of two") {
+    using minify_detail::log2_positive;
+    // Powers of two, with every exponent a footprint can have (subnormals included).
+    for (int e = -1074; e <= 1023; ++e) CHECK(log2_positive(std::ldexp(1.0, e)) == double(e));
+    // The mantissa across [1, 2), densely, at several exponents, and both sides of sqrt(2)
+    // where the reduction switches.
+    double worst = 0.0;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+    for (int i = 0; i < 200000; ++i) {
+        const double r = std::ldexp(mantissa(rng), int(i % 120) - 60);
+        worst = std::max(worst, std::fabs(log2_positive(r) - std::log2(r)));
+    }
+    for (double r : {std::sqrt(2.0), std::nextafter(std::sqrt(2.0), 0.0), std::nextafter(std::sqrt(2.0), 2.0),
+                     std::nextafter(1.0, 0.0), std::nextafter(1.0, 2.0), std::nextafter(2.0, 0.0), 1e-300, 1e300})
+        worst = std::max(worst, std::fabs(log2_positive(r) - std::log2(r)));
+    CHECK(worst < 2e-9);
+    // Outside the normal range it is std::log2 itself.
+    CHECK(log2_positive(std::numeric_limits<double>::infinity()) == std::numeric_limits<double>::infinity());
+    CHECK(std::isnan(log2_positive(std::nan(""))));
+    CHECK(log2_positive(5e-324) == -1074.0);
+}
+
 TEST_CASE("anisotropic and EWA filtering of a constant texture return the constant") {
     const MipMap mip(std::make_shared<Image>(constant_ldr(50, 70, 200)));
     const Color4 expected = mip.base().texel(0, 0);

@@ -9,6 +9,8 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "texr/raster/homography.h"
 #include "texr/texture/reconstruct.h"
@@ -42,11 +44,36 @@ namespace minify_detail {
 }
 }  // namespace minify_detail
 
+namespace minify_detail {
+// log2(r) for r > 0, within 2e-9 of the exact value and exact for powers of two; about a
+// third of the time of std::log2, which the span loop would call once per pixel. With
+// r = m 2^e, m in [sqrt(1/2), sqrt(2)) (e and m read from the bits),
+//   log2 r = e + ln(m) / ln 2,   ln m = 2 (s + s^3/3 + s^5/5 + s^7/7 + s^9/9 + ...),
+//   s = (m - 1) / (m + 1),  |s| <= 0.1716,
+// and the series cut after s^9 leaves less than 2 s^11 / 11 / (1 - s^2) < 8e-10 in ln m.
+// Zero, subnormal, infinite and NaN inputs go to std::log2.
+[[gnu::always_inline]] inline double log2_positive(double r) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &r, sizeof bits);
+    const std::uint64_t biased = (bits >> 52) & 0x7ff;
+    if (biased == 0 || biased == 0x7ff) return std::log2(r);
+    // Mantissa bits as a number in [1, 2); above sqrt(2), halve it into [sqrt(1/2), 1).
+    std::uint64_t m_bits = (bits & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
+    int e = int(biased) - 1023;
+    if (m_bits > 0x3ff6a09e667f3bccULL) m_bits -= 0x0010000000000000ULL, ++e;  // sqrt(2) = 0x3ff6a09e667f3bcd
+    double m;
+    std::memcpy(&m, &m_bits, sizeof m);
+    const double s = (m - 1.0) / (m + 1.0), s2 = s * s;
+    const double series = s * (2.0 + s2 * (2.0 / 3.0 + s2 * (2.0 / 5.0 + s2 * (2.0 / 7.0 + s2 * (2.0 / 9.0)))));
+    return double(e) + series * 1.4426950408889634;  // 1 / ln 2
+}
+}  // namespace minify_detail
+
 [[gnu::always_inline]] inline double level_of_detail(const UVDerivatives& d, int width, int height) {
     using minify_detail::squared_texels;
     // lambda = log2(max(rho_x, rho_y)) = log2(max(rho_x^2, rho_y^2)) / 2: one log, no roots.
     const double rho2 = std::max(squared_texels(d.dudx, d.dvdx, width, height), squared_texels(d.dudy, d.dvdy, width, height));
-    return rho2 > 0.0 ? 0.5 * std::log2(rho2) : -1e9;  // a point footprint: full magnification
+    return rho2 > 0.0 ? 0.5 * minify_detail::log2_positive(rho2) : -1e9;  // a point footprint: full magnification
 }
 
 namespace minify_detail {
