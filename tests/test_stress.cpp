@@ -298,3 +298,30 @@ TEST_CASE("stress: a closed mesh covers every covered pixel exactly once (front 
         CHECK(covered > 100);
     }
 }
+
+TEST_CASE("stress: the short texture paths read what the general path reads, up to and beyond 1e15 texels") {
+    // A 64x64 power-of-two texture with repeat takes the short paths, which check a span's
+    // coordinates once (not each pixel) and hand a span beyond 1e15 texels to the general
+    // path. Capturing (u, v) forces the general path everywhere: the frames must be equal.
+    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
+                          Filter::trilinear}) {
+        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::adaptive}) {
+            CAPTURE(filter_name(filter));
+            CAPTURE(int(mode));
+            Scene scene = testing::camera_scene(96, 64, {0, 1, 2}, {0, 0, -3}, 60.0, 0.1, 100.0);
+            add_texture(scene, filter);
+            // UVs across 1e14 periods (6.4e15 texels) on one triangle, 10 on the other.
+            testing::add_triangle(scene, {vertex(-3, 0, 0, 0, 0), vertex(0, 0, 0, 1e14, 0), vertex(0, 0, -20, 1e14, 3e13)}, 0);
+            testing::add_triangle(scene, {vertex(0, 0, 0, 0, 0), vertex(3, 0, 0, 10, 0), vertex(3, 0, -20, 10, 10)}, 0);
+            RenderOptions options;
+            options.span_mode = mode;
+            RenderStats stats, general_stats;
+            const Framebuffer fb = render(scene, options, stats);
+            options.capture_uv = true;
+            const Framebuffer general = render(scene, options, general_stats);
+            CHECK(fb.color == general.color);
+            CHECK(stats.texels_fetched == general_stats.texels_fetched);
+            CHECK(check_frame(fb).drawn > 1000);
+        }
+    }
+}

@@ -144,34 +144,77 @@ TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     }
 }
 
-// The texture lookup of one pixel on a short path.
+// What the short paths read of a triangle's texture, loaded once per triangle: the base
+// level, its size, and the mip levels, looked up (and built, the first time) only when a
+// pixel is minified: a texture that never is gets no levels.
+struct ShortPathTexture {
+    LdrLevel base;
+    double width = 0.0, height = 0.0;
+    const MipMap* mip = nullptr;
+    int last = 0;  // index of the coarsest level
+    const LdrLevel* levels = nullptr;
+
+    const LdrLevel* pyramid() {
+        if (!levels) levels = mip->ldr_levels();
+        return levels;
+    }
+};
+
+// The texture lookup of one pixel on a short path. The span's coordinates have been checked
+// against the short paths' limit (span_within_short_path_limit).
 template <TexturePath P>
-[[gnu::always_inline]] inline Color4 short_path_lookup(const Texture& t, double u, double v, const UVDerivatives& d,
+[[gnu::always_inline]] inline Color4 short_path_lookup(ShortPathTexture& t, double u, double v, const UVDerivatives& d,
                                                        std::uint64_t& texels) {
     if constexpr (P == TexturePath::nearest) {
         texels += 1;
-        return sample_nearest_repeat_pow2(*t.image, t.sampler, u, v);
+        return nearest_in(t.base, u, v);
     } else if constexpr (P == TexturePath::bilinear) {
         texels += 4;
-        return sample_bilinear_repeat_pow2(*t.image, t.sampler, u, v);
+        return bilinear_in(t.base, u, v);
     } else if constexpr (P == TexturePath::nearest_mip_nearest || P == TexturePath::bilinear_mip_nearest) {
         constexpr bool bilinear = P == TexturePath::bilinear_mip_nearest;
-        const MipMap& mip = *t.mipmap;
         texels += bilinear ? 4 : 1;
-        return sample_mip_nearest_repeat_pow2(mip, t.sampler, u, v, level_of_detail(d, mip.base().width(), mip.base().height()), bilinear);
+        const int level = minify_detail::nearest_level(t.last, level_of_detail(d, int(t.width), int(t.height)));
+        const LdrLevel& l = level == 0 ? t.base : t.pyramid()[level];
+        return bilinear ? bilinear_in(l, u, v) : nearest_in(l, u, v);
     } else {
-        const MipMap& mip = *t.mipmap;
-        const double lambda = level_of_detail(d, mip.base().width(), mip.base().height());
-        texels += trilinear_texels(mip, lambda);
-        return sample_trilinear_repeat_pow2(mip, t.sampler, u, v, lambda);
+        const double lambda = level_of_detail(d, int(t.width), int(t.height));
+        texels += std::uint64_t(trilinear_texels(t.last, lambda));
+        if (!(lambda > 0.0)) return bilinear_in(t.base, u, v);  // magnified (or NaN): trilinear_in's first case
+        return trilinear_in(t.pyramid(), t.last, u, v, lambda);
     }
+}
+
+// Whether every (u, v) of a span is within the short paths' limit, so that no pixel needs
+// the check. Stepped coordinates: u = u'/q with u' and q linear along the span and q > 0,
+// so |u| <= max |u'| / min q over the span's two ends; the stepped values drift from the
+// planes by a few ulps per pixel, far less than the factor 2 kept in hand on each. Other
+// span modes: the precomputed coordinates themselves.
+inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped, SteppedPlane u_prime, SteppedPlane v_prime,
+                                         SteppedPlane q, int n, const double* us, const double* vs) {
+    if (stepped) {
+        const double last = double(n - 1);
+        const double q_min = 0.5 * std::min(q.value, q.value + q.step * last);
+        if (!(q_min > 0.0)) return false;
+        const double u_max = 2.0 * std::max(std::fabs(u_prime.value), std::fabs(u_prime.value + u_prime.step * last));
+        const double v_max = 2.0 * std::max(std::fabs(v_prime.value), std::fabs(v_prime.value + v_prime.step * last));
+        return minify_detail::within_short_path_limit(u_max / q_min, v_max / q_min, t.width, t.height);
+    }
+    double u_max = 0.0, v_max = 0.0;
+    for (int i = 0; i < n; ++i) {
+        // (not std::max: a NaN must win)
+        u_max = std::fabs(us[i]) > u_max || std::isnan(us[i]) ? std::fabs(us[i]) : u_max;
+        v_max = std::fabs(vs[i]) > v_max || std::isnan(vs[i]) ? std::fabs(vs[i]) : v_max;
+    }
+    return minify_detail::within_short_path_limit(u_max, v_max, t.width, t.height);
 }
 
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
 // pixel centre come from the plane equations; within the span they are stepped by their
 // constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
 template <Needs N, TexturePath P>
-void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats) {
+void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
+                   ShortPathTexture& short_path) {
     constexpr bool perspective = (N & (need_uv | need_normal | need_color | need_world_position)) != 0;
     constexpr bool general = P == TexturePath::general;
     const int x0 = span.x0;
@@ -197,6 +240,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     if constexpr ((N & need_normal) != 0) normal = SteppedVector::start(s.normal, x0, y);
     if constexpr ((N & need_color) != 0) color = SteppedVector::start(s.color, x0, y);
     if constexpr ((N & need_world_position) != 0) world = SteppedVector::start(s.world, x0, y);
+    if constexpr (!general)
+        if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, d.u_scratch, d.v_scratch))
+            return shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, short_path);
 
     float* depth_row = &fb.depth[fb.index(0, y)];
     Color* color_row = &fb.color[fb.index(0, y)];
@@ -220,7 +266,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                                       : lookup(*d.texture, u, v, derivatives, texels);
                     if (uv_row) uv_row[x] = {u, v};
                 } else {
-                    texel = short_path_lookup<P>(*d.texture, u, v, derivatives, texels);
+                    texel = short_path_lookup<P>(short_path, u, v, derivatives, texels);
                 }
             }
             color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
@@ -239,26 +285,26 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
 
 template <Needs N>
 void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
-                TexturePath path) {
+                TexturePath path, ShortPathTexture& t) {
     if constexpr (has_short_paths<N>) {
         switch (path) {
-            case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats);
-            case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats);
+            case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats, t);
+            case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats, t);
             case TexturePath::nearest_mip_nearest:
             case TexturePath::bilinear_mip_nearest:
             case TexturePath::trilinear:
                 if constexpr ((N & need_uv_derivatives) != 0) {  // texture_path chose them only then
-                    if (path == TexturePath::trilinear) return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats);
+                    if (path == TexturePath::trilinear) return shade_span_on<N, TexturePath::trilinear>(d, s, y, span, fb, stats, t);
                     if (path == TexturePath::nearest_mip_nearest)
-                        return shade_span_on<N, TexturePath::nearest_mip_nearest>(d, s, y, span, fb, stats);
-                    return shade_span_on<N, TexturePath::bilinear_mip_nearest>(d, s, y, span, fb, stats);
+                        return shade_span_on<N, TexturePath::nearest_mip_nearest>(d, s, y, span, fb, stats, t);
+                    return shade_span_on<N, TexturePath::bilinear_mip_nearest>(d, s, y, span, fb, stats, t);
                 }
                 break;
             case TexturePath::general: break;
         }
     }
     (void)path;
-    shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats);
+    shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, t);
 }
 
 void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb) {
@@ -272,6 +318,14 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
 template <Needs N>
 void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& rows, Framebuffer& fb, RenderStats& stats) {
     const TexturePath path = texture_path<N>(d, fb);
+    ShortPathTexture short_path;
+    if (path != TexturePath::general) {
+        const Image& image = *d.texture->image;
+        short_path.base = image.ldr_level();
+        short_path.width = image.width(), short_path.height = image.height();
+        short_path.mip = d.texture->mipmap.get();
+        short_path.last = short_path.mip ? short_path.mip->level_count() - 1 : 0;
+    }
     for (int y = rows.first_owned(s.first_row); y <= s.last_row; y = rows.next_owned(y)) {
         const Span span = span_for_row(s.edges, y, fb.width);
         if (span.x0 >= span.x1) continue;
@@ -281,7 +335,7 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         const float depth_before = explained ? fb.depth[fb.index(d.explain->x, y)] : 0.0f;
         if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
             for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
-        shade_span<N>(d, s, y, span, fb, stats, path);
+        shade_span<N>(d, s, y, span, fb, stats, path, short_path);
         if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record(d, s, fb);
     }
 }

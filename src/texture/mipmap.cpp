@@ -122,7 +122,13 @@ void MipMap::build() const {
         std::vector<Image> levels;
         levels.reserve(std::size_t(count - 1));
         for (int l = 1; l < count; ++l) levels.push_back(downsample(l == 1 ? *base_ : levels.back()));
+        std::vector<LdrLevel> views;
+        if (base_->is_ldr_pow2()) {
+            views.push_back(base_->ldr_level());
+            for (const Image& level : levels) views.push_back(level.ldr_level());  // (moving keeps the texel storage)
+        }
         levels_ = std::move(levels);
+        ldr_levels_ = std::move(views);
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         built_flag_.store(true, std::memory_order_release);
     });

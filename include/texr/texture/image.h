@@ -13,6 +13,33 @@ namespace texr {
 
 enum class ColorSpace { srgb, linear };
 
+// An 8-bit power-of-two image (or mip level) as the short texture paths read it: the
+// values they need per lookup, loaded once per triangle instead of through the Image.
+struct LdrLevel {
+    const std::uint8_t* texels = nullptr;  // RGBA rows, bottom row first
+    const float* decode = nullptr;         // byte -> linear value
+    double width = 0.0, height = 0.0;      // for u * width
+    std::int64_t mask_u = 0, mask_v = 0;   // width - 1, height - 1
+    std::size_t row_bytes = 0;
+};
+
+// Bilinear blend of four 8-bit texels: columns c0 | c1 (byte offsets) of rows r0 | r1,
+// by successive linear interpolations along v, then u, on decoded linear values.
+[[gnu::always_inline]] inline Color4 blend_ldr_texels(const std::uint8_t* r0, const std::uint8_t* r1, std::size_t c0,
+                                                      std::size_t c1, const float* decode, float fu, float fv) {
+    float rgb[3];  // (not Color4's operator[], which switches on the index)
+    for (int c = 0; c < 3; ++c) {
+        const float column0 = decode[r0[c0 + c]] + fv * (decode[r1[c0 + c]] - decode[r0[c0 + c]]);
+        const float column1 = decode[r0[c1 + c]] + fv * (decode[r1[c1 + c]] - decode[r0[c1 + c]]);
+        rgb[c] = column0 + fu * (column1 - column0);
+    }
+    // Alpha is stored linearly: k / 255, blended like the general path does it.
+    const float a00 = r0[c0 + 3] * (1.0f / 255.0f), a01 = r1[c0 + 3] * (1.0f / 255.0f);
+    const float a10 = r0[c1 + 3] * (1.0f / 255.0f), a11 = r1[c1 + 3] * (1.0f / 255.0f);
+    const float a0 = a00 + fv * (a01 - a00), a1 = a10 + fv * (a11 - a10);
+    return {rgb[0], rgb[1], rgb[2], a0 + fu * (a1 - a0)};
+}
+
 class Image {
 public:
     Image() = default;
@@ -42,20 +69,14 @@ public:
     // addresses are computed once for the four texels (the hot path of bilinear filtering).
     [[gnu::always_inline]] Color4 blend_ldr(int i0, int i1, int j0, int j1, float fu, float fv) const {
         const std::size_t row = std::size_t(width_) * 4;
-        const std::uint8_t* r0 = texels_8_.data() + std::size_t(j0) * row;
-        const std::uint8_t* r1 = texels_8_.data() + std::size_t(j1) * row;
-        const std::size_t c0 = std::size_t(i0) * 4, c1 = std::size_t(i1) * 4;
-        float rgb[3];  // (not Color4's operator[], which switches on the index)
-        for (int c = 0; c < 3; ++c) {
-            const float column0 = decode_[r0[c0 + c]] + fv * (decode_[r1[c0 + c]] - decode_[r0[c0 + c]]);
-            const float column1 = decode_[r0[c1 + c]] + fv * (decode_[r1[c1 + c]] - decode_[r0[c1 + c]]);
-            rgb[c] = column0 + fu * (column1 - column0);
-        }
-        // Alpha is stored linearly: k / 255, blended like the general path does it.
-        const float a00 = r0[c0 + 3] * (1.0f / 255.0f), a01 = r1[c0 + 3] * (1.0f / 255.0f);
-        const float a10 = r0[c1 + 3] * (1.0f / 255.0f), a11 = r1[c1 + 3] * (1.0f / 255.0f);
-        const float a0 = a00 + fv * (a01 - a00), a1 = a10 + fv * (a11 - a10);
-        return {rgb[0], rgb[1], rgb[2], a0 + fu * (a1 - a0)};
+        return blend_ldr_texels(texels_8_.data() + std::size_t(j0) * row, texels_8_.data() + std::size_t(j1) * row,
+                                std::size_t(i0) * 4, std::size_t(i1) * 4, decode_, fu, fv);
+    }
+
+    // The short paths' view of an is_ldr_pow2() image.
+    LdrLevel ldr_level() const {
+        return {texels_8_.data(), decode_, double(width_), double(height_), std::int64_t(width_) - 1,
+                std::int64_t(height_) - 1, std::size_t(width_) * 4};
     }
 
 private:

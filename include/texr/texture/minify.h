@@ -79,9 +79,8 @@ namespace minify_detail {
 namespace minify_detail {
 
 // OpenGL's nearest level: lambda <= 1/2 -> 0, else ceil(lambda + 1/2) - 1. An infinite
-// footprint reads the coarsest level; NaN reads the base.
-[[gnu::always_inline]] inline int nearest_level(const MipMap& mip, double lambda) {
-    const int last = mip.level_count() - 1;
+// footprint reads the coarsest level (`last`); NaN reads the base.
+[[gnu::always_inline]] inline int nearest_level(int last, double lambda) {
     int level = 0;
     if (lambda >= double(last)) level = last;
     else if (lambda > 0.5) {
@@ -92,54 +91,72 @@ namespace minify_detail {
     return level;
 }
 
-template <bool ShortPath>
 [[gnu::always_inline]] inline Color4 mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    const Image& image = mip.level(nearest_level(mip, lambda));
-    if constexpr (ShortPath)
-        return bilinear ? sample_bilinear_repeat_pow2(image, s, u, v) : sample_nearest_repeat_pow2(image, s, u, v);
+    const Image& image = mip.level(nearest_level(mip.level_count() - 1, lambda));
     return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
 }
 
-template <bool ShortPath>
-[[gnu::always_inline]] inline Color4 bilinear(const Image& image, const Sampler& s, double u, double v) {
-    if constexpr (ShortPath) return sample_bilinear_repeat_pow2(image, s, u, v);
-    return sample_bilinear(image, s, u, v);
+// Whether the short paths may read (u, v) on any level of a base level of W x H texels
+// without a per-lookup check (reconstruct.h, short_path_limit): |u W| + 1 and |v H| + 1 are
+// below the limit (also false for NaN). Coarser levels have smaller coordinates.
+[[gnu::always_inline]] inline bool within_short_path_limit(double u, double v, double width, double height) {
+    return std::fabs(u * width) + 1.0 < short_path_limit && std::fabs(v * height) + 1.0 < short_path_limit;
 }
 
-template <bool ShortPath>
 [[gnu::always_inline]] inline Color4 trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     const int last = mip.level_count() - 1;
-    if (!(lambda > 0.0)) return bilinear<ShortPath>(mip.base(), s, u, v);  // also NaN
-    if (lambda >= double(last)) return bilinear<ShortPath>(mip.level(last), s, u, v);
+    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
+    if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
-    const Color4 a = bilinear<ShortPath>(mip.level(l0), s, u, v);
-    const Color4 b = bilinear<ShortPath>(mip.level(l0 + 1), s, u, v);
+    const Color4 a = sample_bilinear(mip.level(l0), s, u, v);
+    const Color4 b = sample_bilinear(mip.level(l0 + 1), s, u, v);
     return a + t * (b - a);
 }
 }  // namespace minify_detail
 
+// The short paths over a mip pyramid's LdrLevel views (levels[0] the base, `last` the index
+// of the 1x1 level), for coordinates within_short_path_limit of the base: the same texels
+// and arithmetic as sample_mip_nearest and sample_trilinear.
+[[gnu::always_inline]] inline Color4 mip_nearest_in(const LdrLevel* levels, int last, double u, double v, double lambda, bool bilinear) {
+    const int level = minify_detail::nearest_level(last, lambda);
+    return bilinear ? bilinear_in(levels[level], u, v) : nearest_in(levels[level], u, v);
+}
+
+[[gnu::always_inline]] inline Color4 trilinear_in(const LdrLevel* levels, int last, double u, double v, double lambda) {
+    if (!(lambda > 0.0)) return bilinear_in(levels[0], u, v);  // also NaN
+    if (lambda >= double(last)) return bilinear_in(levels[last], u, v);
+    const int l0 = int(lambda);
+    const float t = float(lambda - l0);
+    const Color4 a = bilinear_in(levels[l0], u, v);
+    const Color4 b = bilinear_in(levels[l0 + 1], u, v);
+    return a + t * (b - a);
+}
+
 [[gnu::always_inline]] inline Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    return minify_detail::mip_nearest<false>(mip, s, u, v, lambda, bilinear);
+    return minify_detail::mip_nearest(mip, s, u, v, lambda, bilinear);
 }
 // The nearest level when takes_short_path(mip.base(), s) (see sample_trilinear_repeat_pow2).
 [[gnu::always_inline]] inline Color4 sample_mip_nearest_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    return minify_detail::mip_nearest<true>(mip, s, u, v, lambda, bilinear);
+    if (!minify_detail::within_short_path_limit(u, v, mip.base().width(), mip.base().height()))
+        return minify_detail::mip_nearest(mip, s, u, v, lambda, bilinear);
+    return mip_nearest_in(mip.ldr_levels(), mip.level_count() - 1, u, v, lambda, bilinear);
 }
 
-// The texels trilinear reads at lambda: one level's four at either end of the pyramid,
-// two levels' eight between.
-inline int trilinear_texels(const MipMap& mip, double lambda) {
-    return (lambda > 0.0 && lambda < mip.level_count() - 1) ? 8 : 4;
-}
+// The texels trilinear reads at lambda when the coarsest level is `last`: one level's four
+// at either end of the pyramid, two levels' eight between.
+inline int trilinear_texels(int last, double lambda) { return (lambda > 0.0 && lambda < last) ? 8 : 4; }
+inline int trilinear_texels(const MipMap& mip, double lambda) { return trilinear_texels(mip.level_count() - 1, lambda); }
 
 [[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
-    return minify_detail::trilinear<false>(mip, s, u, v, lambda);
+    return minify_detail::trilinear(mip, s, u, v, lambda);
 }
 // Trilinear when takes_short_path(mip.base(), s) (then every level takes it too: the levels
 // of a power-of-two image are powers of two).
 [[gnu::always_inline]] inline Color4 sample_trilinear_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
-    return minify_detail::trilinear<true>(mip, s, u, v, lambda);
+    if (!minify_detail::within_short_path_limit(u, v, mip.base().width(), mip.base().height()))
+        return minify_detail::trilinear(mip, s, u, v, lambda);
+    return trilinear_in(mip.ldr_levels(), mip.level_count() - 1, u, v, lambda);
 }
 
 }  // namespace texr

@@ -37,6 +37,12 @@ public:
         if (!built_flag_.load(std::memory_order_acquire)) build();  // once; then only this load
         return levels_[std::size_t(l - 1)];
     }
+    // Every level, base first, as the short texture paths read them (image.h); builds the
+    // pyramid on first call. Only for a base that is_ldr_pow2() (then so is every level).
+    const LdrLevel* ldr_levels() const {
+        if (!built_flag_.load(std::memory_order_acquire)) build();
+        return ldr_levels_.data();
+    }
     // Number of levels including the base (down to 1x1). Does not build them.
     int level_count() const { return level_count_; }
     bool built() const { return built_flag_.load(); }
@@ -50,6 +56,7 @@ private:
     int level_count_;
     mutable std::once_flag once_;
     mutable std::vector<Image> levels_;
+    mutable std::vector<LdrLevel> ldr_levels_;
     mutable std::atomic<bool> built_flag_{false};
     mutable double build_seconds_ = 0.0;
 };

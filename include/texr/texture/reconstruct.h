@@ -95,11 +95,20 @@ namespace reconstruct_detail {
 
 }  // namespace reconstruct_detail
 
+// The short path's nearest texel on level l, for |u * width| and |v * height| below
+// short_path_limit (the caller has checked: per lookup in sample_nearest_repeat_pow2, per
+// span in the span walk).
+[[gnu::always_inline]] inline Color4 nearest_in(const LdrLevel& l, double u, double v) {
+    const std::uint8_t* t = l.texels + std::size_t(floor_to_int64(v * l.height) & l.mask_v) * l.row_bytes +
+                            std::size_t(floor_to_int64(u * l.width) & l.mask_u) * 4;
+    return {l.decode[t[0]], l.decode[t[1]], l.decode[t[2]], t[3] * (1.0f / 255.0f)};
+}
+
 [[gnu::always_inline]] inline Color4 sample_nearest_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
     const double x = u * image.width(), y = v * image.height();
     if (!(std::fabs(x) < short_path_limit && std::fabs(y) < short_path_limit))
         return reconstruct_detail::sample_nearest_general(image, sampler, u, v);
-    return image.texel(int(floor_to_int64(x) & (image.width() - 1)), int(floor_to_int64(y) & (image.height() - 1)));
+    return nearest_in(image.ldr_level(), u, v);
 }
 
 [[gnu::always_inline]] inline Color4 sample_nearest(const Image& image, const Sampler& sampler, double u, double v) {
@@ -150,14 +159,20 @@ namespace reconstruct_detail {
 
 }  // namespace reconstruct_detail
 
+// The short path's bilinear lookup on level l, under the same condition as nearest_in.
+[[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
+    const double x = u * l.width - 0.5, y = v * l.height - 0.5;
+    const std::int64_t i = floor_to_int64(x), j = floor_to_int64(y);
+    return blend_ldr_texels(l.texels + std::size_t(j & l.mask_v) * l.row_bytes, l.texels + std::size_t((j + 1) & l.mask_v) * l.row_bytes,
+                            std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, l.decode,
+                            float(x - double(i)), float(y - double(j)));
+}
+
 [[gnu::always_inline]] inline Color4 sample_bilinear_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
     const double x = u * image.width() - 0.5, y = v * image.height() - 0.5;
     if (!(std::fabs(x) < short_path_limit && std::fabs(y) < short_path_limit))
         return reconstruct_detail::sample_bilinear_general(image, sampler, u, v);
-    const std::int64_t i = floor_to_int64(x), j = floor_to_int64(y);
-    const std::int64_t mask_u = image.width() - 1, mask_v = image.height() - 1;
-    return image.blend_ldr(int(i & mask_u), int((i + 1) & mask_u), int(j & mask_v), int((j + 1) & mask_v),
-                           float(x - double(i)), float(y - double(j)));
+    return bilinear_in(image.ldr_level(), u, v);
 }
 
 [[gnu::always_inline]] inline Color4 sample_bilinear(const Image& image, const Sampler& sampler, double u, double v) {
