@@ -305,7 +305,7 @@ TEST_CASE("stress: the short texture paths read what the general path reads, up 
     // path. Capturing (u, v) forces the general path everywhere: the frames must be equal.
     for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
                           Filter::trilinear}) {
-        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::adaptive}) {
+        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::adaptive, SpanMode::affine16, SpanMode::affine}) {
             CAPTURE(filter_name(filter));
             CAPTURE(int(mode));
             Scene scene = testing::camera_scene(96, 64, {0, 1, 2}, {0, 0, -3}, 60.0, 0.1, 100.0);

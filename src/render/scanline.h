@@ -187,14 +187,18 @@ template <TexturePath P>
 
 // Whether every (u, v) of a span is within the short paths' limit, so that no pixel needs
 // the check. Stepped coordinates: u = u'/q with u' and q linear along the span and q > 0,
-// so |u| <= max |u'| / min q over the span's two ends; the stepped values drift from the
-// planes by a few ulps per pixel, far less than the factor 2 kept in hand on each. Other
-// span modes: the precomputed coordinates themselves.
+// so |u| <= max |u'| / min q over the span's two ends. Stepping n pixels drifts each value
+// by at most about n 2^-53 times the larger end's magnitude: the factor 2 kept on |u'|
+// covers that for u', but for q the drift is relative to the larger q, which can be 1e12
+// times the smaller one, so it is subtracted (generously: n 2^-50) before halving.
+// Other span modes: the precomputed coordinates themselves.
 inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped, SteppedPlane u_prime, SteppedPlane v_prime,
                                          SteppedPlane q, int n, const double* us, const double* vs) {
     if (stepped) {
         const double last = double(n - 1);
-        const double q_min = 0.5 * std::min(q.value, q.value + q.step * last);
+        const double q_end = q.value + q.step * last;
+        const double drift = double(n) * 0x1p-50 * std::max(std::fabs(q.value), std::fabs(q_end));
+        const double q_min = 0.5 * (std::min(q.value, q_end) - drift);
         if (!(q_min > 0.0)) return false;
         const double u_max = 2.0 * std::max(std::fabs(u_prime.value), std::fabs(u_prime.value + u_prime.step * last));
         const double v_max = 2.0 * std::max(std::fabs(v_prime.value), std::fabs(v_prime.value + v_prime.step * last));

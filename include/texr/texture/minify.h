@@ -115,14 +115,10 @@ namespace minify_detail {
 }
 }  // namespace minify_detail
 
-// The short paths over a mip pyramid's LdrLevel views (levels[0] the base, `last` the index
-// of the 1x1 level), for coordinates within_short_path_limit of the base: the same texels
-// and arithmetic as sample_mip_nearest and sample_trilinear.
-[[gnu::always_inline]] inline Color4 mip_nearest_in(const LdrLevel* levels, int last, double u, double v, double lambda, bool bilinear) {
-    const int level = minify_detail::nearest_level(last, lambda);
-    return bilinear ? bilinear_in(levels[level], u, v) : nearest_in(levels[level], u, v);
-}
-
+// Trilinear on the short path, over a mip pyramid's LdrLevel views (levels[0] the base,
+// `last` the index of the 1x1 level), for coordinates within_short_path_limit of the base:
+// the same texels and arithmetic as sample_trilinear. (The span walk reads the nearest
+// level for the mip-nearest filters itself, with nearest_level.)
 [[gnu::always_inline]] inline Color4 trilinear_in(const LdrLevel* levels, int last, double u, double v, double lambda) {
     if (!(lambda > 0.0)) return bilinear_in(levels[0], u, v);  // also NaN
     if (lambda >= double(last)) return bilinear_in(levels[last], u, v);
@@ -136,12 +132,6 @@ namespace minify_detail {
 [[gnu::always_inline]] inline Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
     return minify_detail::mip_nearest(mip, s, u, v, lambda, bilinear);
 }
-// The nearest level when takes_short_path(mip.base(), s) (see sample_trilinear_repeat_pow2).
-[[gnu::always_inline]] inline Color4 sample_mip_nearest_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
-    if (!minify_detail::within_short_path_limit(u, v, mip.base().width(), mip.base().height()))
-        return minify_detail::mip_nearest(mip, s, u, v, lambda, bilinear);
-    return mip_nearest_in(mip.ldr_levels(), mip.level_count() - 1, u, v, lambda, bilinear);
-}
 
 // The texels trilinear reads at lambda when the coarsest level is `last`: one level's four
 // at either end of the pyramid, two levels' eight between.
@@ -150,13 +140,6 @@ inline int trilinear_texels(const MipMap& mip, double lambda) { return trilinear
 
 [[gnu::always_inline]] inline Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
     return minify_detail::trilinear(mip, s, u, v, lambda);
-}
-// Trilinear when takes_short_path(mip.base(), s) (then every level takes it too: the levels
-// of a power-of-two image are powers of two).
-[[gnu::always_inline]] inline Color4 sample_trilinear_repeat_pow2(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
-    if (!minify_detail::within_short_path_limit(u, v, mip.base().width(), mip.base().height()))
-        return minify_detail::trilinear(mip, s, u, v, lambda);
-    return trilinear_in(mip.ldr_levels(), mip.level_count() - 1, u, v, lambda);
 }
 
 }  // namespace texr
