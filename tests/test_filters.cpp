@@ -331,3 +331,46 @@ TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0,
             CHECK(sample_mip_nearest(mip, s, u, 0.37, lambda, false).x == sample_nearest(mip.level(level), s, u, 0.37).x);
     }
 }
+
+TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the major axis") {
+    // The probes, from the definition: n = ceil(min(major / minor, max anisotropy)) trilinear
+    // lookups at offsets (k + 1/2) / n - 1/2 of the major derivative vector, at level
+    // log2(major / n). Worked out here on the public trilinear lookup, against the filter's
+    // own loop (which reads the level views directly for this power-of-two 8-bit texture).
+    std::mt19937_64 rng(23);
+    std::vector<std::uint8_t> rgba(64 * 64 * 4);
+    for (auto& b : rgba) b = std::uint8_t(rng() % 256);
+    const auto image = std::make_shared<Image>(Image::ldr(64, 64, ColorSpace::srgb, rgba));
+    Sampler s;
+    s.filter = Filter::anisotropic;
+    s.max_anisotropy = 16;
+    REQUIRE(takes_short_path(*image, s));
+    {  // magnified: only the base level is read, and no level is built
+        const MipMap mip(image);
+        int probes = 0;
+        sample_anisotropic(mip, s, 0.3, 0.6, {0.2 / 64, 0.0, 0.0, 0.05 / 64}, probes);
+        CHECK(probes == 4);
+        CHECK_FALSE(mip.built());
+    }
+    const MipMap mip(image);
+    for (const UVDerivatives& d : {UVDerivatives{6.0 / 64, 1.0 / 64, -0.5 / 64, 1.5 / 64}, UVDerivatives{0.3 / 64, 0.0, 0.0, 9.0 / 64},
+                                   UVDerivatives{40.0 / 64, 0.0, 0.0, 1.0 / 64}, UVDerivatives{0.2 / 64, 0.0, 0.0, 0.05 / 64}}) {
+        for (double u : {0.3, -2.71, 1e6 + 0.1}) {
+            CAPTURE(u);
+            const double x_len = std::hypot(d.dudx * 64, d.dvdx * 64), y_len = std::hypot(d.dudy * 64, d.dvdy * 64);
+            const double major = std::max(x_len, y_len), minor = std::min(x_len, y_len);
+            const int n = int(std::ceil(std::min(major / minor, 16.0) - 1e-9));
+            const double au = x_len >= y_len ? d.dudx : d.dudy, av = x_len >= y_len ? d.dvdx : d.dvdy;
+            Color4 expected(0.0f);
+            for (int k = 0; k < n; ++k) {
+                const double t = (k + 0.5) / n - 0.5;
+                expected += sample_trilinear(mip, s, u + t * au, 0.6 + t * av, std::log2(major / n));
+            }
+            expected *= 1.0f / float(n);
+            int probes = 0;
+            const Color4 got = sample_anisotropic(mip, s, u, 0.6, d, probes);
+            CHECK(probes == n);
+            for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(1e-6));
+        }
+    }
+}

@@ -22,9 +22,19 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     // The major axis in texture coordinates.
     const double axis_u = rho_x >= rho_y ? d.dudx : d.dudy, axis_v = rho_x >= rho_y ? d.dvdx : d.dvdy;
     Color4 sum(0.0f);
+    // The probes lie within half the major axis of (u, v): when the default sampler's short
+    // path holds for that whole segment, every probe reads the level views directly
+    // (the same texels and arithmetic as sample_trilinear, without its per-probe checks).
+    // The levels above the base are needed (and built) only for lambda > 0.
+    const bool short_path = takes_short_path(mip.base(), s) &&
+                            minify_detail::within_short_path_limit(std::fabs(u) + 0.5 * std::fabs(axis_u),
+                                                                   std::fabs(v) + 0.5 * std::fabs(axis_v), w, h);
+    const LdrLevel base = short_path ? mip.base().ldr_level() : LdrLevel{};
+    const LdrLevel* levels = short_path ? (lambda > 0.0 ? mip.ldr_levels() : &base) : nullptr;
     for (int k = 0; k < n; ++k) {
         const double offset = (k + 0.5) / n - 0.5;  // evenly spaced across the footprint
-        sum += sample_trilinear(mip, s, u + offset * axis_u, v + offset * axis_v, lambda);
+        const double pu = u + offset * axis_u, pv = v + offset * axis_v;
+        sum += levels ? trilinear_in(levels, mip.level_count() - 1, pu, pv, lambda) : sample_trilinear(mip, s, pu, pv, lambda);
     }
     probes = n;
     return sum * (1.0f / float(n));
