@@ -56,4 +56,22 @@ double timed_median(const Scene& scene, const RenderOptions& options, int repeat
     return median(times);
 }
 
+void time_interleaved(std::vector<TimedCase>& cases, int repeat) {
+    std::vector<std::vector<double>> times(cases.size());
+    for (TimedCase& c : cases) {
+        RenderStats warm;
+        render(*c.scene, c.options, warm);
+    }
+    for (int r = 0; r < repeat; ++r)
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            TimedCase& c = cases[i];
+            c.stats = RenderStats{};
+            const auto start = Clock::now();
+            Framebuffer frame = render(*c.scene, c.options, c.stats);
+            times[i].push_back(ms_since(start));
+            if (r + 1 == repeat) c.last = std::move(frame);
+        }
+    for (std::size_t i = 0; i < cases.size(); ++i) cases[i].median_ms = median(times[i]);
+}
+
 }  // namespace texr::bench

@@ -29,6 +29,18 @@ double median(std::vector<double> v);
 // last frame's counters and, if asked, the last frame itself.
 double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats,
                     Framebuffer* last = nullptr);
+// Several configurations timed in interleaved rounds: one warm-up frame each, then `repeat`
+// rounds in which each renders one frame; the median of each. A slow spell of a shared
+// host (often seconds long) then falls on every configuration alike, so the ratios between
+// them hold far better than when each is timed in a block of its own.
+struct TimedCase {
+    const Scene* scene = nullptr;
+    RenderOptions options;
+    RenderStats stats;                          // the last frame's counters
+    Framebuffer last{1, 1, Color(0.0f)};        // the last frame
+    double median_ms = 0.0;
+};
+void time_interleaved(std::vector<TimedCase>& cases, int repeat);
 // The pixels a frame's surfaces cover.
 std::vector<bool> covered(const Framebuffer& fb);
 void make_folders(const std::string& path);

@@ -46,24 +46,29 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
         const std::vector<bool> mask = covered(truth);
         write_frame(truth, o.out + "/filters-" + name + "-truth.png");
 
+        // Every filter's frames are timed in interleaved rounds (time_interleaved).
+        std::vector<Scene> scenes(filter_count, base);
+        std::vector<TimedCase> cases(filter_count);
         for (int f = 0; f < filter_count; ++f) {
-            Scene scene = base;
-            for (Texture& t : scene.textures) t.sampler.filter = Filter(f);
-            RenderStats stats;
-            Framebuffer frame(1, 1, Color(0.0f));
-            const double frame_ms = timed_median(scene, options, o.repeat, stats, &frame);
+            for (Texture& t : scenes[std::size_t(f)].textures) t.sampler.filter = Filter(f);
+            cases[std::size_t(f)].scene = &scenes[std::size_t(f)];
+            cases[std::size_t(f)].options = options;
+        }
+        time_interleaved(cases, o.repeat);
+        for (int f = 0; f < filter_count; ++f) {
+            const TimedCase& c = cases[std::size_t(f)];
             FilterRow row;
             row.scene = name, row.filter = filter_name(Filter(f));
             row.width = o.width, row.height = o.height, row.threads = o.threads;
             row.load_ms = load_ms, row.mip_ms = mip_ms;
-            row.frame_ms = frame_ms;
-            row.covered_pixels = double(stats.pixels_shaded);
+            row.frame_ms = c.median_ms;
+            row.covered_pixels = double(c.stats.pixels_shaded);
             row.mpix_per_s = row.covered_pixels / (row.frame_ms * 1e3);
-            const FrameBytes got = bytes_of(frame);
+            const FrameBytes got = bytes_of(c.last);
             row.psnr_db = psnr(got, truth_bytes, mask);
             row.ssim = ssim(got, truth_bytes, mask);
-            row.texels_per_pixel = double(stats.texels_fetched) / std::max(1.0, row.covered_pixels);
-            write_frame(frame, o.out + "/filters-" + name + "-" + row.filter + ".png");
+            row.texels_per_pixel = double(c.stats.texels_fetched) / std::max(1.0, row.covered_pixels);
+            write_frame(c.last, o.out + "/filters-" + name + "-" + row.filter + ".png");
             std::fprintf(stderr, "  %-22s %9.2f ms %8.1f Mpx/s %7.2f dB  SSIM %.4f\n", row.filter.c_str(), row.frame_ms,
                          row.mpix_per_s, row.psnr_db, row.ssim);
             rows.push_back(row);

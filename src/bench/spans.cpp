@@ -35,6 +35,8 @@ std::vector<SpanRow> bench_spans(const BenchOptions& o) {
         RenderStats reference_stats;
         const Framebuffer reference = render(scene, options, reference_stats);
         std::fprintf(stderr, "bench spans: %s\n", name.c_str());
+        std::vector<SpanRow> scene_rows;
+        std::vector<TimedCase> cases(span_mode_count);
         for (int m = 0; m < span_mode_count; ++m) {
             options.span_mode = SpanMode(m);
             options.capture_uv = true;
@@ -49,10 +51,16 @@ std::vector<SpanRow> bench_spans(const BenchOptions& o) {
                 max_error = std::max(max_error, e), sum += e, ++count;
             }
             options.capture_uv = false;
-            RenderStats timed;
-            const double frame_ms = timed_median(scene, options, o.repeat, timed);
-            SpanRow row{name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, frame_ms, max_error,
-                        count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)};
+            cases[std::size_t(m)].scene = &scene;
+            cases[std::size_t(m)].options = options;
+            scene_rows.push_back({name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, 0.0, max_error,
+                                  count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)});
+        }
+        // Every mode's frames are timed in interleaved rounds (time_interleaved).
+        time_interleaved(cases, o.repeat);
+        for (int m = 0; m < span_mode_count; ++m) {
+            SpanRow& row = scene_rows[std::size_t(m)];
+            row.frame_ms = cases[std::size_t(m)].median_ms;
             std::fprintf(stderr, "  %-12s %9.2f ms  max %.3g texel  mean %.3g texel\n", row.mode.c_str(), row.frame_ms,
                          row.max_error, row.mean_error);
             rows.push_back(row);
