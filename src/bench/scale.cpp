@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
+#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
@@ -40,6 +41,9 @@ double peak_rss_mb() {
 ScaleRow in_child(const std::function<ScaleRow()>& measure) {
     int fds[2];
     if (pipe(fds) != 0) return measure();
+    // The child starts with this process's resident pages, which count towards its peak:
+    // give the free heap that earlier benchmarks left behind back to the system first.
+    malloc_trim(0);
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
