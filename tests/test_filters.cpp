@@ -354,8 +354,9 @@ TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the m
     }
     const MipMap mip(image);
     for (const UVDerivatives& d : {UVDerivatives{6.0 / 64, 1.0 / 64, -0.5 / 64, 1.5 / 64}, UVDerivatives{0.3 / 64, 0.0, 0.0, 9.0 / 64},
-                                   UVDerivatives{40.0 / 64, 0.0, 0.0, 1.0 / 64}, UVDerivatives{0.2 / 64, 0.0, 0.0, 0.05 / 64}}) {
-        for (double u : {0.3, -2.71, 1e6 + 0.1}) {
+                                   UVDerivatives{40.0 / 64, 0.0, 0.0, 1.0 / 64}, UVDerivatives{0.2 / 64, 0.0, 0.0, 0.05 / 64},
+                                   UVDerivatives{2000.0 / 64, 0.0, 0.0, 300.0 / 64}}) {  // (the last beyond the 1x1 level)
+        for (double u : {0.3, -2.71, 1e6 + 0.1, 2e13 /* beyond 1e15 texels: the general path */}) {
             CAPTURE(u);
             const double x_len = std::hypot(d.dudx * 64, d.dvdx * 64), y_len = std::hypot(d.dudy * 64, d.dvdy * 64);
             const double major = std::max(x_len, y_len), minor = std::min(x_len, y_len);

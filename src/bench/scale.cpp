@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
+#ifdef __GLIBC__
 #include <malloc.h>
+#endif
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
@@ -43,7 +45,9 @@ ScaleRow in_child(const std::function<ScaleRow()>& measure) {
     if (pipe(fds) != 0) return measure();
     // The child starts with this process's resident pages, which count towards its peak:
     // give the free heap that earlier benchmarks left behind back to the system first.
+#ifdef __GLIBC__
     malloc_trim(0);
+#endif
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
