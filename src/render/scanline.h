@@ -145,18 +145,18 @@ TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
 }
 
 // What the short paths read of a triangle's texture, loaded once per triangle: the base
-// level, its size, and the mip levels, looked up (and built, the first time) only when a
-// pixel is minified: a texture that never is gets no levels.
+// level, and the mip levels, looked up (and built, the first time) only when a pixel reads
+// a level above the base: a texture that is never minified gets no levels.
 struct ShortPathTexture {
     LdrLevel base;
-    double width = 0.0, height = 0.0;
     const MipMap* mip = nullptr;
     int last = 0;  // index of the coarsest level
     const LdrLevel* levels = nullptr;
 
-    const LdrLevel* pyramid() {
+    const LdrLevel& level(int l) {
+        if (l == 0) return base;
         if (!levels) levels = mip->ldr_levels();
-        return levels;
+        return levels[l];
     }
 };
 
@@ -174,14 +174,12 @@ template <TexturePath P>
     } else if constexpr (P == TexturePath::nearest_mip_nearest || P == TexturePath::bilinear_mip_nearest) {
         constexpr bool bilinear = P == TexturePath::bilinear_mip_nearest;
         texels += bilinear ? 4 : 1;
-        const int level = minify_detail::nearest_level(t.last, level_of_detail(d, int(t.width), int(t.height)));
-        const LdrLevel& l = level == 0 ? t.base : t.pyramid()[level];
+        const LdrLevel& l = t.level(minify_detail::nearest_level(t.last, level_of_detail(d, int(t.base.width), int(t.base.height))));
         return bilinear ? bilinear_in(l, u, v) : nearest_in(l, u, v);
     } else {
-        const double lambda = level_of_detail(d, int(t.width), int(t.height));
+        const double lambda = level_of_detail(d, int(t.base.width), int(t.base.height));
         texels += std::uint64_t(trilinear_texels(t.last, lambda));
-        if (!(lambda > 0.0)) return bilinear_in(t.base, u, v);  // magnified (or NaN): trilinear_in's first case
-        return trilinear_in(t.pyramid(), t.last, u, v, lambda);
+        return minify_detail::trilinear_over(t.last, lambda, [&](int l) { return bilinear_in(t.level(l), u, v); });
     }
 }
 
@@ -202,7 +200,7 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
         if (!(q_min > 0.0)) return false;
         const double u_max = 2.0 * std::max(std::fabs(u_prime.value), std::fabs(u_prime.value + u_prime.step * last));
         const double v_max = 2.0 * std::max(std::fabs(v_prime.value), std::fabs(v_prime.value + v_prime.step * last));
-        return minify_detail::within_short_path_limit(u_max / q_min, v_max / q_min, t.width, t.height);
+        return minify_detail::within_short_path_limit(u_max / q_min, v_max / q_min, t.base.width, t.base.height);
     }
     double u_max = 0.0, v_max = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -210,7 +208,7 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
         u_max = std::fabs(us[i]) > u_max || std::isnan(us[i]) ? std::fabs(us[i]) : u_max;
         v_max = std::fabs(vs[i]) > v_max || std::isnan(vs[i]) ? std::fabs(vs[i]) : v_max;
     }
-    return minify_detail::within_short_path_limit(u_max, v_max, t.width, t.height);
+    return minify_detail::within_short_path_limit(u_max, v_max, t.base.width, t.base.height);
 }
 
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
@@ -324,9 +322,7 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
     const TexturePath path = texture_path<N>(d, fb);
     ShortPathTexture short_path;
     if (path != TexturePath::general) {
-        const Image& image = *d.texture->image;
-        short_path.base = image.ldr_level();
-        short_path.width = image.width(), short_path.height = image.height();
+        short_path.base = d.texture->image->ldr_level();
         short_path.mip = d.texture->mipmap.get();
         short_path.last = short_path.mip ? short_path.mip->level_count() - 1 : 0;
     }

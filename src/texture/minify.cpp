@@ -34,7 +34,9 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     for (int k = 0; k < n; ++k) {
         const double offset = (k + 0.5) / n - 0.5;  // evenly spaced across the footprint
         const double pu = u + offset * axis_u, pv = v + offset * axis_v;
-        sum += levels ? trilinear_in(levels, mip.level_count() - 1, pu, pv, lambda) : sample_trilinear(mip, s, pu, pv, lambda);
+        sum += levels ? minify_detail::trilinear_over(mip.level_count() - 1, lambda,
+                                                      [&](int l) { return bilinear_in(levels[l], pu, pv); })
+                      : sample_trilinear(mip, s, pu, pv, lambda);
     }
     probes = n;
     return sum * (1.0f / float(n));

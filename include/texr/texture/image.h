@@ -23,6 +23,11 @@ struct LdrLevel {
     std::size_t row_bytes = 0;
 };
 
+// Linear RGBA of the 8-bit texel at t: colour through the decode table, alpha as k / 255.
+[[gnu::always_inline]] inline Color4 decode_ldr_texel(const std::uint8_t* t, const float* decode) {
+    return {decode[t[0]], decode[t[1]], decode[t[2]], t[3] * (1.0f / 255.0f)};
+}
+
 // Bilinear blend of four 8-bit texels: columns c0 | c1 (byte offsets) of rows r0 | r1,
 // by successive linear interpolations along v, then u, on decoded linear values.
 [[gnu::always_inline]] inline Color4 blend_ldr_texels(const std::uint8_t* r0, const std::uint8_t* r1, std::size_t c0,
@@ -60,8 +65,7 @@ public:
     [[gnu::always_inline]] Color4 texel(int i, int j) const {
         const std::size_t k = (std::size_t(j) * std::size_t(width_) + std::size_t(i)) * 4;
         if (hdr_) return {texels_f_[k], texels_f_[k + 1], texels_f_[k + 2], texels_f_[k + 3]};
-        const std::uint8_t* t = &texels_8_[k];
-        return {decode_[t[0]], decode_[t[1]], decode_[t[2]], t[3] * (1.0f / 255.0f)};
+        return decode_ldr_texel(&texels_8_[k], decode_);
     }
 
     // Bilinear blend of the four LDR texels (i0|i1, j0|j1), all inside the image:

@@ -91,6 +91,20 @@ namespace minify_detail {
     return level;
 }
 
+// Trilinear blending (`last` the index of the 1x1 level), with bilinear_at(l) the bilinear
+// lookup on level l: the general path reads the levels through MipMap, the short paths
+// through their LdrLevel views (reconstruct.h bilinear_in), with the same arithmetic.
+template <typename BilinearAt>
+[[gnu::always_inline]] inline Color4 trilinear_over(int last, double lambda, const BilinearAt& bilinear_at) {
+    if (!(lambda > 0.0)) return bilinear_at(0);  // also NaN
+    if (lambda >= double(last)) return bilinear_at(last);
+    const int l0 = int(lambda);
+    const float t = float(lambda - l0);
+    const Color4 a = bilinear_at(l0);
+    const Color4 b = bilinear_at(l0 + 1);
+    return a + t * (b - a);
+}
+
 [[gnu::always_inline]] inline Color4 mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
     const Image& image = mip.level(nearest_level(mip.level_count() - 1, lambda));
     return bilinear ? sample_bilinear(image, s, u, v) : sample_nearest(image, s, u, v);
@@ -104,30 +118,9 @@ namespace minify_detail {
 }
 
 [[gnu::always_inline]] inline Color4 trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda) {
-    const int last = mip.level_count() - 1;
-    if (!(lambda > 0.0)) return sample_bilinear(mip.base(), s, u, v);  // also NaN
-    if (lambda >= double(last)) return sample_bilinear(mip.level(last), s, u, v);
-    const int l0 = int(lambda);
-    const float t = float(lambda - l0);
-    const Color4 a = sample_bilinear(mip.level(l0), s, u, v);
-    const Color4 b = sample_bilinear(mip.level(l0 + 1), s, u, v);
-    return a + t * (b - a);
+    return trilinear_over(mip.level_count() - 1, lambda, [&](int l) { return sample_bilinear(mip.level(l), s, u, v); });
 }
 }  // namespace minify_detail
-
-// Trilinear on the short path, over a mip pyramid's LdrLevel views (levels[0] the base,
-// `last` the index of the 1x1 level), for coordinates within_short_path_limit of the base:
-// the same texels and arithmetic as sample_trilinear. (The span walk reads the nearest
-// level for the mip-nearest filters itself, with nearest_level.)
-[[gnu::always_inline]] inline Color4 trilinear_in(const LdrLevel* levels, int last, double u, double v, double lambda) {
-    if (!(lambda > 0.0)) return bilinear_in(levels[0], u, v);  // also NaN
-    if (lambda >= double(last)) return bilinear_in(levels[last], u, v);
-    const int l0 = int(lambda);
-    const float t = float(lambda - l0);
-    const Color4 a = bilinear_in(levels[l0], u, v);
-    const Color4 b = bilinear_in(levels[l0 + 1], u, v);
-    return a + t * (b - a);
-}
 
 [[gnu::always_inline]] inline Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear) {
     return minify_detail::mip_nearest(mip, s, u, v, lambda, bilinear);

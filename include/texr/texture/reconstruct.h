@@ -99,9 +99,9 @@ namespace reconstruct_detail {
 // short_path_limit (the caller has checked: per lookup in sample_nearest_repeat_pow2, per
 // span in the span walk).
 [[gnu::always_inline]] inline Color4 nearest_in(const LdrLevel& l, double u, double v) {
-    const std::uint8_t* t = l.texels + std::size_t(floor_to_int64(v * l.height) & l.mask_v) * l.row_bytes +
-                            std::size_t(floor_to_int64(u * l.width) & l.mask_u) * 4;
-    return {l.decode[t[0]], l.decode[t[1]], l.decode[t[2]], t[3] * (1.0f / 255.0f)};
+    return decode_ldr_texel(l.texels + std::size_t(floor_to_int64(v * l.height) & l.mask_v) * l.row_bytes +
+                                std::size_t(floor_to_int64(u * l.width) & l.mask_u) * 4,
+                            l.decode);
 }
 
 [[gnu::always_inline]] inline Color4 sample_nearest_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
