@@ -37,3 +37,23 @@ TEST_CASE("frames are byte-identical for 1, 2, 3, 5 and 16 threads") {
         }
     }
 }
+
+TEST_CASE("clearing rows writes the background and empty depth to exactly those rows") {
+    // Widths that put rows at every phase of the colour pattern and of 16-byte alignment.
+    const Color background(0.25f, 0.5f, 0.75f), marker(-1.0f, -2.0f, -3.0f);
+    for (int width : {1, 2, 3, 4, 5, 7, 13, 64, 101}) {
+        CAPTURE(width);
+        Framebuffer fb(width, 9, marker);
+        std::fill(fb.depth.begin(), fb.depth.end(), -5.0f);
+        fb.clear_rows(2, 5, background);
+        fb.clear_rows(6, 7, background);
+        fb.clear_rows(8, 8, background);  // empty: nothing
+        for (int y = 0; y < 9; ++y)
+            for (int x = 0; x < width; ++x) {
+                const bool cleared = (y >= 2 && y < 5) || y == 6;
+                const std::size_t i = fb.index(x, y);
+                CHECK(fb.color[i] == (cleared ? background : marker));
+                CHECK(fb.depth[i] == (cleared ? Framebuffer::empty_depth : -5.0f));
+            }
+    }
+}

@@ -61,10 +61,7 @@ struct Framebuffer {
     Framebuffer(int w, int h, Uncleared)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h)), depth(std::size_t(w) * std::size_t(h)) {}
 
-    void clear_rows(int first, int last, Color background) {  // rows [first, last)
-        std::fill(color.begin() + std::ptrdiff_t(index(0, first)), color.begin() + std::ptrdiff_t(index(0, last)), background);
-        std::fill(depth.begin() + std::ptrdiff_t(index(0, first)), depth.begin() + std::ptrdiff_t(index(0, last)), empty_depth);
-    }
+    void clear_rows(int first, int last, Color background);  // rows [first, last)
 
     bool drawn(std::size_t i) const { return depth[i] != empty_depth; }
     std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
