@@ -299,6 +299,24 @@ TEST_CASE("stress: a closed mesh covers every covered pixel exactly once (front 
     }
 }
 
+// Renders the scene as given (short texture paths where they apply) and with (u, v)
+// captured, which forces the general path on every pixel; checks that the two agree.
+struct FrameAndStats {
+    Framebuffer fb;
+    RenderStats stats;
+};
+FrameAndStats check_short_paths_equal_general(const Scene& scene, RenderOptions options) {
+    RenderStats stats, general_stats;
+    Framebuffer fb = render(scene, options, stats);
+    options.capture_uv = true;
+    const Framebuffer general = render(scene, options, general_stats);
+    CHECK(fb.color == general.color);
+    CHECK(fb.depth == general.depth);
+    CHECK(stats.texels_fetched == general_stats.texels_fetched);
+    CHECK(stats.pixels_shaded == general_stats.pixels_shaded);
+    return {std::move(fb), stats};
+}
+
 TEST_CASE("stress: the short texture paths read what the general path reads, up to and beyond 1e15 texels") {
     // A 64x64 power-of-two texture with repeat takes the short paths, which check a span's
     // coordinates once (not each pixel) and hand a span beyond 1e15 texels to the general
@@ -315,13 +333,59 @@ TEST_CASE("stress: the short texture paths read what the general path reads, up 
             testing::add_triangle(scene, {vertex(0, 0, 0, 0, 0), vertex(3, 0, 0, 10, 0), vertex(3, 0, -20, 10, 10)}, 0);
             RenderOptions options;
             options.span_mode = mode;
-            RenderStats stats, general_stats;
-            const Framebuffer fb = render(scene, options, stats);
-            options.capture_uv = true;
-            const Framebuffer general = render(scene, options, general_stats);
-            CHECK(fb.color == general.color);
-            CHECK(stats.texels_fetched == general_stats.texels_fetched);
+            const Framebuffer fb = check_short_paths_equal_general(scene, options).fb;
             CHECK(check_frame(fb).drawn > 1000);
+        }
+    }
+}
+
+TEST_CASE("the batched span walk of the short paths gives the pixel-by-pixel walk's frame") {
+    // The short paths (but nearest) walk a span in batches of pixels: depth tests first, then
+    // coordinates and levels, then lookups. Spans here are longer than a batch, pixels in the
+    // middle of batches fail the depth test behind an occluder drawn first, and one material
+    // is lit (normals interpolated per pixel). Capturing (u, v) forces the general path, which
+    // walks pixel by pixel: the frames must be equal.
+    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
+                          Filter::trilinear}) {
+        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::affine16}) {
+            CAPTURE(filter_name(filter));
+            CAPTURE(int(mode));
+            Scene scene = testing::camera_scene(331, 97, {0, 1, 2}, {0, 0.5, -3}, 60.0, 0.1, 100.0);
+            add_texture(scene, filter);
+            Material lit = scene.materials[0];
+            lit.lighting = Lighting::lambert;
+            scene.materials.push_back(lit);
+            scene.ambient = Color(0.1f);
+            scene.lights.push_back(Light{Light::Kind::directional, glm::dvec3(0.3, -1.0, -0.5), Color(0.9f)});
+            auto lit_vertex = [](double x, double y, double z, double u, double v, glm::vec3 normal) {
+                Vertex out = vertex(x, y, z, u, v);
+                out.normal = normal;
+                return out;
+            };
+            // The occluder, near the camera, first; then a receding floor (unlit) and a lit
+            // wall behind, both wider than the frame.
+            testing::add_triangle(scene, {lit_vertex(-0.2, 0.4, 0.5, 0, 0, {0, 1, 0}), lit_vertex(0.3, 0.4, 0.5, 2, 0, {1, 0, 0}),
+                                          lit_vertex(0.0, 1.2, 0.5, 1, 2, {0, 0, 1})},
+                                  1);
+            for (int m = 0; m < 2; ++m) {
+                const double z = m == 0 ? 0.0 : -6.0;
+                auto corner = [&](double x, double depth, double u, double v) {
+                    return m == 0 ? lit_vertex(x, 0, depth, u, v, {0, 1, 0}) : lit_vertex(x, -depth, z, u, v, {0.5f * float(x), 1, 1});
+                };
+                testing::add_triangle(scene, {corner(-30, 1, 0, 0), corner(30, 1, 40, 0), corner(30, -30, 40, 40)}, m);
+                testing::add_triangle(scene, {corner(-30, 1, 0, 0), corner(30, -30, 40, 40), corner(-30, -30, 0, 40)}, m);
+                scene.meshes[scene.meshes.size() - 1].has_normals = scene.meshes[scene.meshes.size() - 2].has_normals = true;
+            }
+            scene.meshes[0].has_normals = true;
+            RenderOptions options;
+            options.span_mode = mode;
+            options.count_coverage = true;
+            const auto [fb, stats] = check_short_paths_equal_general(scene, options);
+            // Pixels failed the depth test (covered more often than shaded), and most are drawn.
+            std::uint64_t covered = 0;
+            for (std::uint16_t c : fb.coverage) covered += c;
+            CHECK(covered > stats.pixels_shaded + 1000);
+            CHECK(check_frame(fb).drawn > 331 * 97 * 3 / 4);
         }
     }
 }

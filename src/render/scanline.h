@@ -160,10 +160,11 @@ struct ShortPathTexture {
     }
 };
 
-// The texture lookup of one pixel on a short path. The span's coordinates have been checked
-// against the short paths' limit (span_within_short_path_limit).
+// The texture lookup of one pixel on a short path, at level of detail lambda (read by the
+// mip filters only). The span's coordinates have been checked against the short paths'
+// limit (span_within_short_path_limit).
 template <TexturePath P>
-[[gnu::always_inline]] inline Color4 short_path_lookup(ShortPathTexture& t, double u, double v, const UVDerivatives& d,
+[[gnu::always_inline]] inline Color4 short_path_lookup(ShortPathTexture& t, double u, double v, double lambda,
                                                        std::uint64_t& texels) {
     if constexpr (P == TexturePath::nearest) {
         texels += 1;
@@ -174,10 +175,9 @@ template <TexturePath P>
     } else if constexpr (P == TexturePath::nearest_mip_nearest || P == TexturePath::bilinear_mip_nearest) {
         constexpr bool bilinear = P == TexturePath::bilinear_mip_nearest;
         texels += bilinear ? 4 : 1;
-        const LdrLevel& l = t.level(minify_detail::nearest_level(t.last, level_of_detail(d, int(t.base.width), int(t.base.height))));
+        const LdrLevel& l = t.level(minify_detail::nearest_level(t.last, lambda));
         return bilinear ? bilinear_in(l, u, v) : nearest_in(l, u, v);
     } else {
-        const double lambda = level_of_detail(d, int(t.base.width), int(t.base.height));
         texels += std::uint64_t(trilinear_texels(t.last, lambda));
         return minify_detail::trilinear_over(t.last, lambda, [&](int l) { return bilinear_in(t.level(l), u, v); });
     }
@@ -211,6 +211,65 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
     return minify_detail::within_short_path_limit(u_max, v_max, t.base.width, t.base.height);
 }
 
+// The span walk of a short path. The same values as shade_span_on's, computed in batches of
+// pixels and three passes per batch, so that no pixel's long chain of dependent steps
+// (divide, level of detail, texel address, texel loads, blend) waits for the one before:
+//   1. in order along the span: the depth test, stepping every value; the pixels that pass
+//      keep their stepped values;
+//   2. for those pixels: 1/q, (u, v) and the level of detail, each pixel independent;
+//   3. for those pixels: the texture lookup and shading.
+// A triangle covers each pixel of a span once, so the order of passes 2 and 3 among pixels
+// changes nothing: the frame is the same bytes as a pixel-by-pixel walk.
+template <Needs N, TexturePath P>
+void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
+                        ShortPathTexture& t, bool stepped_uv, SteppedPlane depth, SteppedPlane q, SteppedPlane u_prime,
+                        SteppedPlane v_prime, SteppedVector normal) {
+    constexpr int batch = 64;
+    constexpr bool lit = (N & need_normal) != 0;
+    constexpr bool footprint = P == TexturePath::nearest_mip_nearest || P == TexturePath::bilinear_mip_nearest ||
+                               P == TexturePath::trilinear;
+    // 1/q is needed by stepped (u, v), the footprint and the normal.
+    const bool divide = stepped_uv || footprint || lit;
+    float* depth_row = &fb.depth[fb.index(0, y)];
+    Color* color_row = &fb.color[fb.index(0, y)];
+    std::uint64_t shaded = 0, texels = 0;
+    for (int first = span.x0; first < span.x1; first += batch) {
+        const int end = std::min(span.x1, first + batch);
+        int xs[batch];
+        double qs[batch], us[batch], vs[batch], lambdas[footprint ? batch : 1];
+        glm::dvec3 normals[lit ? batch : 1];
+        int n = 0;
+        for (int x = first; x < end; ++x) {  // pass 1
+            if (float(depth.value) < depth_row[x]) {
+                depth_row[x] = float(depth.value);
+                xs[n] = x, qs[n] = q.value;
+                us[n] = stepped_uv ? u_prime.value : d.u_scratch[x - span.x0];  // other span modes: given
+                vs[n] = stepped_uv ? v_prime.value : d.v_scratch[x - span.x0];
+                if constexpr (lit) normals[n] = normal.value();
+                ++n;
+            }
+            depth.advance(), q.advance(), u_prime.advance(), v_prime.advance();
+            if constexpr (lit) normal.advance();
+        }
+        for (int k = 0; k < n; ++k) {  // pass 2
+            const double inv_q = divide ? 1.0 / qs[k] : 1.0;  // the one divide per pixel
+            qs[k] = inv_q;
+            if (stepped_uv) us[k] *= inv_q, vs[k] *= inv_q;
+            if constexpr (footprint)  // 1/q is at hand: no second divide
+                lambdas[k] = level_of_detail(uv_derivatives_from_inverse_q(s.h, us[k], vs[k], inv_q), int(t.base.width),
+                                             int(t.base.height));
+        }
+        for (int k = 0; k < n; ++k) {  // pass 3
+            const Color4 texel = short_path_lookup<P>(t, us[k], vs[k], footprint ? lambdas[k] : 0.0, texels);
+            const glm::dvec3 normal_k = lit ? normals[k] * qs[k] : glm::dvec3(0.0);
+            color_row[xs[k]] = shade<N>(d, texel, normal_k, glm::dvec3(0.0), glm::dvec3(0.0));
+        }
+        shaded += std::uint64_t(n);
+    }
+    stats.pixels_shaded += shaded;
+    stats.texels_fetched += texels;
+}
+
 // The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
 // pixel centre come from the plane equations; within the span they are stepped by their
 // constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
@@ -230,9 +289,6 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
             t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
             span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
         }
-    // 1/q per pixel is needed by perspective attributes, derivatives and stepped (u, v).
-    constexpr bool attributes_need_q = (N & (need_uv_derivatives | need_normal | need_color | need_world_position)) != 0;
-    const bool divide = attributes_need_q || stepped_uv;
 
     SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);
     SteppedPlane u_prime, v_prime, q;
@@ -242,47 +298,53 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     if constexpr ((N & need_normal) != 0) normal = SteppedVector::start(s.normal, x0, y);
     if constexpr ((N & need_color) != 0) color = SteppedVector::start(s.color, x0, y);
     if constexpr ((N & need_world_position) != 0) world = SteppedVector::start(s.world, x0, y);
-    if constexpr (!general)
+    if constexpr (!general) {
         if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, d.u_scratch, d.v_scratch))
             return shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, short_path);
-
-    float* depth_row = &fb.depth[fb.index(0, y)];
-    Color* color_row = &fb.color[fb.index(0, y)];
-    glm::dvec2* uv_row = !general || fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
-    std::uint64_t shaded = 0, texels = 0;
-    for (int x = span.x0; x < span.x1; ++x) {
-        if (float(depth.value) < depth_row[x]) {
-            depth_row[x] = float(depth.value);
-            double inv_q = 1.0;
-            if constexpr (perspective)
-                if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
-            Color4 texel(1.0f);
-            if constexpr ((N & need_uv) != 0) {
-                const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
-                const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
-                UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
-                if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
-                    derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
-                if constexpr (general) {
-                    texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels)
-                                      : lookup(*d.texture, u, v, derivatives, texels);
-                    if (uv_row) uv_row[x] = {u, v};
-                } else {
-                    texel = short_path_lookup<P>(short_path, u, v, derivatives, texels);
-                }
-            }
-            color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
-            ++shaded;
-        }
-        depth.advance();
-        if constexpr (perspective) q.advance();
-        if constexpr ((N & need_uv) != 0) u_prime.advance(), v_prime.advance();
-        if constexpr ((N & need_normal) != 0) normal.advance();
-        if constexpr ((N & need_color) != 0) color.advance();
-        if constexpr ((N & need_world_position) != 0) world.advance();
+        if constexpr (P != TexturePath::nearest)
+            return shade_span_batched<N, P>(d, s, y, span, fb, stats, short_path, stepped_uv, depth, q, u_prime, v_prime, normal);
     }
-    stats.pixels_shaded += shaded;
-    stats.texels_fetched += texels;
+    {  // pixel by pixel: the general path, and nearest (whose short chain gains nothing from batches)
+        // 1/q per pixel is needed by perspective attributes, derivatives and stepped (u, v).
+        constexpr bool attributes_need_q = (N & (need_uv_derivatives | need_normal | need_color | need_world_position)) != 0;
+        const bool divide = attributes_need_q || stepped_uv;
+        float* depth_row = &fb.depth[fb.index(0, y)];
+        Color* color_row = &fb.color[fb.index(0, y)];
+        glm::dvec2* uv_row = !general || fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
+        std::uint64_t shaded = 0, texels = 0;
+        for (int x = span.x0; x < span.x1; ++x) {
+            if (float(depth.value) < depth_row[x]) {
+                depth_row[x] = float(depth.value);
+                double inv_q = 1.0;
+                if constexpr (perspective)
+                    if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
+                Color4 texel(1.0f);
+                if constexpr ((N & need_uv) != 0) {
+                    const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
+                    const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
+                    UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
+                    if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
+                        derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
+                    if constexpr (general) {
+                        texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels) : lookup(*d.texture, u, v, derivatives, texels);
+                        if (uv_row) uv_row[x] = {u, v};
+                    } else {
+                        texel = short_path_lookup<P>(short_path, u, v, 0.0, texels);
+                    }
+                }
+                color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
+                ++shaded;
+            }
+            depth.advance();
+            if constexpr (perspective) q.advance();
+            if constexpr ((N & need_uv) != 0) u_prime.advance(), v_prime.advance();
+            if constexpr ((N & need_normal) != 0) normal.advance();
+            if constexpr ((N & need_color) != 0) color.advance();
+            if constexpr ((N & need_world_position) != 0) world.advance();
+        }
+        stats.pixels_shaded += shaded;
+        stats.texels_fetched += texels;
+    }
 }
 
 template <Needs N>
