@@ -14,20 +14,24 @@ using namespace texr;
 namespace {
 
 // A plane receding to z = -500, tilted so that depth varies along each row (on a level
-// floor seen by a level camera every row is at one depth and affine spans would be exact).
+// floor seen by a level camera every row is at one depth and affine spans would be exact);
+// or, `gentle`, a floor from z = -3 to -8 tilted a little. Texture coordinates (0, 0),
+// (4, 0), (2, v_far) on a 256 x 256 texture.
 struct Floor {
     TextureHomography h;
     Plane u_affine, v_affine;
-    Floor() {
+    explicit Floor(double v_far = 500.0, bool gentle = false) {
         const double f = 1024.0, cx = 1024.0, cy = 300.0;
-        const glm::dvec3 p[3] = {{-2.0, -1.0, -1.0}, {6.0, 2.0, -20.0}, {0.0, -1.0, -500.0}};  // tilted: rows are not iso-depth
+        const glm::dvec3 steep[3] = {{-2.0, -1.0, -1.0}, {6.0, 2.0, -20.0}, {0.0, -1.0, -500.0}};  // tilted: rows are not iso-depth
+        const glm::dvec3 mild[3] = {{-2.0, -1.0, -3.0}, {2.0, -0.9, -3.5}, {0.0, -1.0, -8.0}};  // 3 to 8 units away
+        const glm::dvec3* p = gentle ? mild : steep;
         std::array<glm::dvec2, 3> screen;
         std::array<double, 3> inv_w;
         for (int i = 0; i < 3; ++i) {
             screen[i] = {cx + f * p[i].x / -p[i].z, cy - f * p[i].y / -p[i].z};
             inv_w[i] = 1.0 / -p[i].z;
         }
-        const std::array<glm::dvec2, 3> uv = {glm::dvec2(0, 0), glm::dvec2(4, 0), glm::dvec2(2, 500)};
+        const std::array<glm::dvec2, 3> uv = {glm::dvec2(0, 0), glm::dvec2(4, 0), glm::dvec2(2, v_far)};
         h = texture_homography(screen, inv_w, uv);
         const auto lambda = barycentric_planes(screen);
         u_affine = over_w_plane(lambda, {uv[0].x, uv[1].x, uv[2].x}, {1, 1, 1});
@@ -40,8 +44,8 @@ struct Errors {
     int divides = 0;
 };
 
-Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0) {
-    const Floor floor;
+Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.0, bool gentle = false) {
+    const Floor floor(v_far, gentle);
     SpanTexturing t;
     t.h = &floor.h, t.u_affine = floor.u_affine, t.v_affine = floor.v_affine;
     t.width = t.height = 256, t.tolerance = tolerance;
@@ -53,7 +57,7 @@ Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0) {
         for (int x = 0; x < 2048; ++x) {
             const double q = floor.h.q.at(x + 0.5, y + 0.5);
             const glm::dvec2 uv = floor.h.uv_at(x + 0.5, y + 0.5);
-            if (q > 0 && uv.x >= 0 && uv.y >= 0 && uv.x <= 4 && uv.y <= 500 && std::fabs(uv.x - 2.0) <= 2.0 - 2.0 * uv.y / 500.0)
+            if (q > 0 && uv.x >= 0 && uv.y >= 0 && uv.x <= 4 && uv.y <= v_far && std::fabs(uv.x - 2.0) <= 2.0 - 2.0 * uv.y / v_far)
                 x0 = std::min(x0, x), x1 = std::max(x1, x + 1);
         }
         if (x1 - x0 < 2) continue;
@@ -78,11 +82,20 @@ TEST_CASE("the adaptive span mode keeps its error bound, for several tolerances"
         CAPTURE(tolerance);
         const Errors adaptive = measure(SpanMode::adaptive, tolerance);
         CHECK(adaptive.max <= tolerance * (1.0 + 1e-9));
-        // And it is adaptive: at the default tolerance and above, fewer divides than one per
-        // pixel (at 1/256 texel this steep plane needs almost every pixel exact).
-        if (tolerance >= 1.0 / 64.0) CHECK(adaptive.divides < measure(SpanMode::exact).divides);
+        // Never more than a divide per pixel: where the bound allows sub-spans of fewer than
+        // 16 pixels (on this steep plane, everywhere up to 0.25 texel), pixels are stepped, a
+        // divide each; at 2 texels it interpolates.
+        CHECK(adaptive.divides <= measure(SpanMode::exact).divides);
+        if (tolerance >= 2.0) CHECK(adaptive.divides < measure(SpanMode::exact).divides);
         MESSAGE("tolerance " << tolerance << ": max error " << adaptive.max << " texel, " << adaptive.divides << " divides");
     }
+    // On a floor tilted less across its rows (q varies less along a row), the default
+    // tolerance interpolates most pixels: fewer than a fifth of a divide per pixel.
+    const Errors mild = measure(SpanMode::adaptive, 1.0 / 64.0, 4.0, true);
+    const int pixels = measure(SpanMode::exact, 1.0 / 64.0, 4.0, true).divides;
+    CHECK(mild.max <= 1.0 / 64.0 * (1.0 + 1e-9));
+    CHECK(mild.divides * 5 < pixels);
+    MESSAGE("milder floor: max error " << mild.max << " texel, " << mild.divides << " divides for " << pixels << " pixels");
     // A looser tolerance never needs more divides.
     CHECK(measure(SpanMode::adaptive, 0.25).divides <= measure(SpanMode::adaptive, 1.0 / 256.0).divides);
 }

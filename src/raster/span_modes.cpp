@@ -46,6 +46,13 @@ int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double*
     return divides;
 }
 
+// Adaptive sub-spans shorter than stepped_below pixels are not worth sizing: a sub-span
+// costs a square root and a divide to size and a divide at its end, while stepping costs a
+// divide per pixel, which pipelines. Measured on the grazing square with callgrind: sizing
+// down to 2 pixels, then 8 exact pixels, took 88.1M instructions; stepping runs of 32
+// pixels wherever the bound allows fewer than 16 took 79.0M (bilinear, incremental 63.2M).
+constexpr int stepped_below = 16, stepped_run = 32;
+
 int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
@@ -71,11 +78,19 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
             const double fit = std::sqrt(8.0 * t.tolerance * q * q * q / curvature);
             length = fit < double(remaining) ? std::max(1, int(fit)) : remaining;
         }
-        if (length <= 1) {
-            // Where the bound allows no interpolation at all (near a horizon), sizing sub-spans
-            // costs more than it saves: take the next 8 pixels exactly.
-            const int b = a + direction * std::min(remaining, 8);
-            for (int x = a + direction; x != b + direction; x += direction) exact_at(h, x, yc, u[x - x0], v[x - x0]);
+        if (length < stepped_below) {
+            // Where the bound allows only short sub-spans (near a horizon), sizing them costs
+            // more than it saves: take the next pixels as the incremental mode does, stepping
+            // u', v' and q from pixel a, with a divide per pixel.
+            const int b = a + direction * std::min(remaining, stepped_run);
+            SteppedPlane up{h.u_prime.at(a + 0.5, yc), direction * h.u_prime.dx};
+            SteppedPlane vp{h.v_prime.at(a + 0.5, yc), direction * h.v_prime.dx};
+            SteppedPlane q{h.q.at(a + 0.5, yc), direction * h.q.dx};
+            for (int x = a + direction; x != b + direction; x += direction) {
+                up.advance(), vp.advance(), q.advance();
+                const double inv_q = 1.0 / q.value;
+                u[x - x0] = up.value * inv_q, v[x - x0] = vp.value * inv_q;
+            }
             divides += std::abs(b - a);
             a = b;
             continue;

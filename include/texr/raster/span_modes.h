@@ -14,7 +14,8 @@
 // errs by at most L^2 / 8 * max|u''|, and max|u''| is where q is smallest. The span is walked
 // in the direction in which q grows, so that is each sub-span's start and L follows in closed
 // form. Measured in texels (u times the texture width, v times its height), L is chosen so
-// that bound stays <= tolerance.
+// that bound stays <= tolerance. Where it allows fewer than 16 pixels (near a horizon), the
+// next 32 pixels are stepped as in the incremental mode, a divide each.
 #pragma once
 #include <string>
 
