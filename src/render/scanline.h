@@ -37,7 +37,9 @@ struct RowSet {
         const int ahead = ((index - band % count) + count) % count;  // > 0: band is not ours
         return (band + ahead) * band_rows;
     }
-    int next_owned(int y) const { return first_owned(y + 1); }
+    // The next row after an owned row y: the next row of its band, or the first row of the
+    // band `count` bands on (no division: this runs once per row of every triangle).
+    int next_owned(int y) const { return (y + 1) % band_rows != 0 ? y + 1 : y + 1 + (count - 1) * band_rows; }
 };
 
 // What one draw (a material on a mesh) shades with.
@@ -222,6 +224,10 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
 //   3. for those pixels: the texture lookup and shading.
 // A triangle covers each pixel of a span once, so the order of passes 2 and 3 among pixels
 // changes nothing: the frame is the same bytes as a pixel-by-pixel walk.
+// Spans shorter than this are walked pixel by pixel. (The 1M-triangle terrain, whose spans
+// are mostly one or two pixels, took 85M more instructions (5%) when every span was batched.)
+constexpr int batched_from = 16;
+
 template <Needs N, TexturePath P>
 void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
                         ShortPathTexture& t, bool stepped_uv, SteppedPlane depth, SteppedPlane q, SteppedPlane u_prime,
@@ -303,10 +309,11 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     if constexpr (!general) {
         if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, d.u_scratch, d.v_scratch))
             return shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, short_path);
-        if constexpr (P != TexturePath::nearest)
+        if (P != TexturePath::nearest && span.x1 - x0 >= batched_from)
             return shade_span_batched<N, P>(d, s, y, span, fb, stats, short_path, stepped_uv, depth, q, u_prime, v_prime, normal);
     }
-    {  // pixel by pixel: the general path, and nearest (whose short chain gains nothing from batches)
+    {  // pixel by pixel: the general path, nearest (whose short chain gains nothing from
+       // batches) and short spans (which would pay more to set a batch up than it saves)
         // 1/q per pixel is needed by perspective attributes, derivatives and stepped (u, v).
         constexpr bool attributes_need_q = (N & (need_uv_derivatives | need_normal | need_color | need_world_position)) != 0;
         const bool divide = attributes_need_q || stepped_uv;
@@ -331,7 +338,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels) : lookup(*d.texture, u, v, derivatives, texels);
                         if (uv_row) uv_row[x] = {u, v};
                     } else {
-                        texel = short_path_lookup<P>(short_path, u, v, 0.0, texels);
+                        constexpr bool footprint = (N & need_uv_derivatives) != 0;
+                        const double lambda = footprint ? level_of_detail(derivatives, int(short_path.base.width), int(short_path.base.height)) : 0.0;
+                        texel = short_path_lookup<P>(short_path, u, v, lambda, texels);
                     }
                 }
                 color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
