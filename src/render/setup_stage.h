@@ -25,7 +25,7 @@ void rebase(std::array<double, 3>& t, Wrap wrap) {
     const double period = wrap == Wrap::repeat ? 1.0 : 2.0;
     const double low = std::min({t[0], t[1], t[2]});
     if (!(std::fabs(low) < 1e15)) return;  // beyond that no fraction is left to keep
-    const double shift = period * std::floor(low / period);
+    const double shift = period * std::floor(low * (1.0 / period));  // (1/period is exact: 1 or 1/2)
     for (double& x : t) x -= shift;
 }
 
@@ -125,7 +125,8 @@ private:
             const double x = (p.x * inv_w[std::size_t(k)] * 0.5 + 0.5) * width_;
             const double y = (0.5 - p.y * inv_w[std::size_t(k)] * 0.5) * height_;
             snapped[std::size_t(k)] = {snap(x), snap(y)};
-            screen[std::size_t(k)] = {double(snapped[std::size_t(k)].x) / subpixel_scale, double(snapped[std::size_t(k)].y) / subpixel_scale};
+            constexpr double pixels_per_step = 1.0 / subpixel_scale;  // exact: a power of two
+            screen[std::size_t(k)] = {double(snapped[std::size_t(k)].x) * pixels_per_step, double(snapped[std::size_t(k)].y) * pixels_per_step};
             depth[std::size_t(k)] = p.z * inv_w[std::size_t(k)] * 0.5 + 0.5;
             weights[std::size_t(k)] = corners[std::size_t(k)].weights;
         }
