@@ -46,10 +46,11 @@ bool triangle_edges(const std::array<SnappedVertex, 3>& v, TriangleEdges& out) {
 }
 
 void row_range(const TriangleEdges& t, int height, int& first, int& last) {
-    // Row y's centre is 256 y + 128; it can be covered only within [min_y, max_y].
+    // Row y's centre is 256 y + 128; it can be covered only within [min_y, max_y]. (As in
+    // span_for_row, the divisions by 256 are shifts, flooring for negative values too.)
     const std::int64_t half = subpixel_scale / 2;
-    first = int(std::max<std::int64_t>(0, ceil_div(t.min_y - half, subpixel_scale)));
-    last = int(std::min<std::int64_t>(height - 1, floor_div(t.max_y - half, subpixel_scale)));
+    first = int(std::max<std::int64_t>(0, -((half - t.min_y) >> subpixel_bits)));
+    last = int(std::min<std::int64_t>(height - 1, (t.max_y - half) >> subpixel_bits));
 }
 
 Span span_for_row(const TriangleEdges& t, int y, int width) {
