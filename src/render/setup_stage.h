@@ -53,9 +53,13 @@ bool finite(const glm::dvec4& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
 }
 
+// A vertex attribute at the corners of a piece: at each corner, the sum of the triangle's
+// values with the corner's weights. An unclipped piece is the triangle: its values as they
+// are (the weights are 1, 0, 0 and so on).
 template <typename Get>
 std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, const std::array<std::uint32_t, 3>& tri,
-                                    Get get) {
+                                    bool clipped, Get get) {
+    if (!clipped) return {double(get(tri[0])), double(get(tri[1])), double(get(tri[2]))};
     std::array<double, 3> out{};
     for (int k = 0; k < 3; ++k)
         for (int j = 0; j < 3; ++j) out[std::size_t(k)] += weights[std::size_t(k)][j] * double(get(tri[std::size_t(j)]));
@@ -147,8 +151,8 @@ private:
         s.depth = over_w_plane(lambda, depth, {1.0, 1.0, 1.0});  // depth is affine in screen space
         s.h.q = over_w_plane(lambda, {1.0, 1.0, 1.0}, inv_w);
         if ((needs & need_uv) || explaining_) {  // texr explain shows u and v even when unused
-            std::array<double, 3> u = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
-            std::array<double, 3> vv = vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
+            std::array<double, 3> u = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
+            std::array<double, 3> vv = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
             if (texture) rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v);
             s.h.u_prime = over_w_plane(lambda, u, inv_w);
             s.h.v_prime = over_w_plane(lambda, vv, inv_w);
@@ -161,11 +165,11 @@ private:
         }
         for (int axis = 0; axis < 3; ++axis) {
             if (needs & need_normal)
-                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v.normal[i][axis]; }), inv_w);
+                s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return v.normal[i][axis]; }), inv_w);
             if (needs & need_color)
-                s.color[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return mesh.vertices[i].color[axis]; }), inv_w);
+                s.color[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].color[axis]; }), inv_w);
             if (needs & need_world_position)
-                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, [&](std::uint32_t i) { return v.world[i][axis]; }), inv_w);
+                s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return v.world[i][axis]; }), inv_w);
         }
         return true;
     }
