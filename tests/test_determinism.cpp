@@ -45,12 +45,13 @@ TEST_CASE("clearing rows writes the background and empty depth to exactly those 
         CAPTURE(width);
         Framebuffer fb(width, 9, marker);
         std::fill(fb.depth.begin(), fb.depth.end(), -5.0f);
-        fb.clear_rows(2, 5, background);
+        fb.clear_rows(1, 2, background);  // odd first rows: scalar heads of every length
+        fb.clear_rows(3, 5, background);
         fb.clear_rows(6, 7, background);
         fb.clear_rows(8, 8, background);  // empty: nothing
         for (int y = 0; y < 9; ++y)
             for (int x = 0; x < width; ++x) {
-                const bool cleared = (y >= 2 && y < 5) || y == 6;
+                const bool cleared = y == 1 || (y >= 3 && y < 5) || y == 6;
                 const std::size_t i = fb.index(x, y);
                 CHECK(fb.color[i] == (cleared ? background : marker));
                 CHECK(fb.depth[i] == (cleared ? Framebuffer::empty_depth : -5.0f));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "texr/raster/span_modes.h"
@@ -15,12 +16,13 @@ namespace {
 
 // A plane receding to z = -500, tilted so that depth varies along each row (on a level
 // floor seen by a level camera every row is at one depth and affine spans would be exact);
-// or, `gentle`, a floor from z = -3 to -8 tilted a little. Texture coordinates (0, 0),
-// (4, 0), (2, v_far) on a 256 x 256 texture.
+// or, `gentle`, a floor from z = -3 to -8 tilted a little; `mirrored` (x -> -x) makes q fall
+// along the rows instead of growing, so the adaptive mode walks them backwards. Texture
+// coordinates (0, 0), (4, 0), (2, v_far) on a 256 x 256 texture.
 struct Floor {
     TextureHomography h;
     Plane u_affine, v_affine;
-    explicit Floor(double v_far = 500.0, bool gentle = false) {
+    explicit Floor(double v_far = 500.0, bool gentle = false, bool mirrored = false) {
         const double f = 1024.0, cx = 1024.0, cy = 300.0;
         const glm::dvec3 steep[3] = {{-2.0, -1.0, -1.0}, {6.0, 2.0, -20.0}, {0.0, -1.0, -500.0}};  // tilted: rows are not iso-depth
         const glm::dvec3 mild[3] = {{-2.0, -1.0, -3.0}, {2.0, -0.9, -3.5}, {0.0, -1.0, -8.0}};  // 3 to 8 units away
@@ -28,7 +30,7 @@ struct Floor {
         std::array<glm::dvec2, 3> screen;
         std::array<double, 3> inv_w;
         for (int i = 0; i < 3; ++i) {
-            screen[i] = {cx + f * p[i].x / -p[i].z, cy - f * p[i].y / -p[i].z};
+            screen[i] = {cx + (mirrored ? -f : f) * p[i].x / -p[i].z, cy - f * p[i].y / -p[i].z};
             inv_w[i] = 1.0 / -p[i].z;
         }
         const std::array<glm::dvec2, 3> uv = {glm::dvec2(0, 0), glm::dvec2(4, 0), glm::dvec2(2, v_far)};
@@ -44,8 +46,9 @@ struct Errors {
     int divides = 0;
 };
 
-Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.0, bool gentle = false) {
-    const Floor floor(v_far, gentle);
+Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.0, bool gentle = false,
+               bool mirrored = false) {
+    const Floor floor(v_far, gentle, mirrored);
     SpanTexturing t;
     t.h = &floor.h, t.u_affine = floor.u_affine, t.v_affine = floor.v_affine;
     t.width = t.height = 256, t.tolerance = tolerance;
@@ -90,12 +93,23 @@ TEST_CASE("the adaptive span mode keeps its error bound, for several tolerances"
         MESSAGE("tolerance " << tolerance << ": max error " << adaptive.max << " texel, " << adaptive.divides << " divides");
     }
     // On a floor tilted less across its rows (q varies less along a row), the default
-    // tolerance interpolates most pixels: fewer than a fifth of a divide per pixel.
-    const Errors mild = measure(SpanMode::adaptive, 1.0 / 64.0, 4.0, true);
-    const int pixels = measure(SpanMode::exact, 1.0 / 64.0, 4.0, true).divides;
-    CHECK(mild.max <= 1.0 / 64.0 * (1.0 + 1e-9));
-    CHECK(mild.divides * 5 < pixels);
-    MESSAGE("milder floor: max error " << mild.max << " texel, " << mild.divides << " divides for " << pixels << " pixels");
+    // tolerance and looser ones interpolate most pixels: fewer than a fifth of a divide per
+    // pixel. Mirrored, q falls along every row and the rows are walked backwards.
+    for (bool mirrored : {false, true}) {
+        CHECK((Floor(4.0, true, mirrored).h.q.dx < 0.0) == mirrored);
+        for (double tolerance : {1.0 / 256.0, 1.0 / 64.0, 0.25}) {
+            CAPTURE(mirrored);
+            CAPTURE(tolerance);
+            const Errors mild = measure(SpanMode::adaptive, tolerance, 4.0, true, mirrored);
+            const int pixels = measure(SpanMode::exact, tolerance, 4.0, true, mirrored).divides;
+            CHECK(mild.max <= tolerance * (1.0 + 1e-9));
+            if (tolerance >= 1.0 / 64.0) CHECK(mild.divides * 5 < pixels);
+            MESSAGE(std::string(mirrored ? "milder floor, mirrored" : "milder floor") << ", tolerance " << tolerance << ": max error "
+                                   << mild.max << " texel, " << mild.divides << " divides for " << pixels << " pixels");
+        }
+        // The steep floor (stepped at 1/64) backwards too.
+        CHECK(measure(SpanMode::adaptive, 1.0 / 64.0, 500.0, false, mirrored).max < 1e-6);
+    }
     // A looser tolerance never needs more divides.
     CHECK(measure(SpanMode::adaptive, 0.25).divides <= measure(SpanMode::adaptive, 1.0 / 256.0).divides);
 }

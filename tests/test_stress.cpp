@@ -347,7 +347,7 @@ TEST_CASE("the batched span walk of the short paths gives the pixel-by-pixel wal
     // walks pixel by pixel: the frames must be equal.
     for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
                           Filter::trilinear}) {
-        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::affine16}) {
+        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::affine16, SpanMode::affine, SpanMode::adaptive}) {
             CAPTURE(filter_name(filter));
             CAPTURE(int(mode));
             Scene scene = testing::camera_scene(331, 97, {0, 1, 2}, {0, 0.5, -3}, 60.0, 0.1, 100.0);

@@ -39,10 +39,10 @@ void stream_fill(float* out, std::size_t first, std::size_t last, const float* p
 }  // namespace
 
 void Framebuffer::clear_rows(int first, int last, Color background) {
-    if (first >= last) return;
+    if (first >= last || width <= 0) return;
     static_assert(sizeof(Color) == 3 * sizeof(float), "colour is three packed floats");
     const float rgb[3] = {background.x, background.y, background.z};
-    stream_fill(&color[0].x, 3 * index(0, first), 3 * index(0, last), rgb, 3);
+    stream_fill(&color.data()->x, 3 * index(0, first), 3 * index(0, last), rgb, 3);
     const float empty = empty_depth;
     stream_fill(depth.data(), index(0, first), index(0, last), &empty, 1);
 }

@@ -1,6 +1,8 @@
 // The scanline walk (DESIGN.md, "scanline walk" and "fragment"): for one prepared triangle,
 // the spans of the rows a worker owns, pixel by pixel: depth test, (u, v) and the other
-// attributes from their planes, texture lookup, shading. Compiled once per Needs set.
+// attributes from their planes, texture lookup, shading (the short texture paths take
+// spans of 16 pixels or more in batches, with the same arithmetic: shade_span_batched).
+// Compiled once per Needs set.
 // Internal to the renderer: included by src/render/renderer.cpp only.
 #pragma once
 #include <array>

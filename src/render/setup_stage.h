@@ -55,7 +55,8 @@ bool finite(const glm::dvec4& p) {
 
 // A vertex attribute at the corners of a piece: at each corner, the sum of the triangle's
 // values with the corner's weights. An unclipped piece is the triangle: its values as they
-// are (the weights are 1, 0, 0 and so on).
+// are (the weights are 1, 0, 0 and so on; the sum would also have turned -0 into +0, and an
+// infinite value at one corner into NaN at all three).
 template <typename Get>
 std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, const std::array<std::uint32_t, 3>& tri,
                                     bool clipped, Get get) {

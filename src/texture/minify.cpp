@@ -8,15 +8,6 @@
 
 namespace texr {
 
-minify_detail::Log2Table minify_detail::make_log2_table() {
-    Log2Table t;
-    for (int i = 0; i < 128; ++i) {
-        t.inverse[i] = 1.0 / (1.0 + i / 128.0);  // 1 and 0 exactly for i = 0
-        t.log2_c[i] = -std::log2(t.inverse[i]);
-    }
-    return t;
-}
-
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     const double w = mip.base().width(), h = mip.base().height();
     const double rho_x = std::sqrt(minify_detail::squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(minify_detail::squared_texels(d.dudy, d.dvdy, w, h));
