@@ -44,6 +44,7 @@ struct Floor {
 struct Errors {
     double max = 0.0;
     int divides = 0;
+    int spans = 0, stepped_spans = 0;  // adaptive: spans adaptive_steps_whole_span says are all stepped
 };
 
 Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.0, bool gentle = false,
@@ -64,7 +65,14 @@ Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.
                 x0 = std::min(x0, x), x1 = std::max(x1, x + 1);
         }
         if (x1 - x0 < 2) continue;
-        e.divides += span_texture_coordinates(mode, t, y, x0, x1 - x0, u.data(), v.data());
+        const int divides = span_texture_coordinates(mode, t, y, x0, x1 - x0, u.data(), v.data());
+        e.divides += divides;
+        ++e.spans;
+        // The span walk's shortcut: a span it steps itself is one the mode steps throughout.
+        if (mode == SpanMode::adaptive && adaptive_steps_whole_span(t, y, x0, x1 - x0)) {
+            CHECK(divides == x1 - x0);
+            ++e.stepped_spans;
+        }
         for (int x = x0; x < x1; ++x) {
             const glm::dvec2 direct = floor.h.uv_at(x + 0.5, y + 0.5);
             e.max = std::max({e.max, std::fabs(u[x - x0] - direct.x) * 256, std::fabs(v[x - x0] - direct.y) * 256});
@@ -107,8 +115,15 @@ TEST_CASE("the adaptive span mode keeps its error bound, for several tolerances"
             MESSAGE(std::string(mirrored ? "milder floor, mirrored" : "milder floor") << ", tolerance " << tolerance << ": max error "
                                    << mild.max << " texel, " << mild.divides << " divides for " << pixels << " pixels");
         }
-        // The steep floor (stepped at 1/64) backwards too.
-        CHECK(measure(SpanMode::adaptive, 1.0 / 64.0, 500.0, false, mirrored).max < 1e-6);
+        // The steep floor (stepped at 1/64) backwards too; the span walk steps its spans
+        // itself (every span here), and those of the milder floor it leaves to the mode.
+        const Errors steep = measure(SpanMode::adaptive, 1.0 / 64.0, 500.0, false, mirrored);
+        CHECK(steep.max < 1e-6);
+        CHECK(steep.stepped_spans == steep.spans);
+        const Errors mild = measure(SpanMode::adaptive, 1.0 / 64.0, 4.0, true, mirrored);
+        CHECK(mild.stepped_spans * 4 < mild.spans);
+        MESSAGE("spans stepped by the walk: steep " << steep.stepped_spans << " of " << steep.spans << ", milder "
+                                                    << mild.stepped_spans << " of " << mild.spans);
     }
     // A looser tolerance never needs more divides.
     CHECK(measure(SpanMode::adaptive, 0.25).divides <= measure(SpanMode::adaptive, 1.0 / 256.0).divides);

@@ -53,16 +53,27 @@ int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double*
 // pixels wherever the bound allows fewer than 16 took 79.0M (bilinear, incremental 63.2M).
 constexpr int stepped_below = 16, stepped_run = 32;
 
+// The bound's curvature along the row whose centre is yc: max |u''| in texels is
+// curvature / q^3, with K = (du'/dx) q - u' (dq/dx) constant along the row.
+double adaptive_curvature(const SpanTexturing& t, double yc, int x0) {
+    const TextureHomography& h = *t.h;
+    const double q0 = h.q.at(x0 + 0.5, yc);
+    const double k_u = h.u_prime.dx * q0 - h.u_prime.at(x0 + 0.5, yc) * h.q.dx;
+    const double k_v = h.v_prime.dx * q0 - h.v_prime.at(x0 + 0.5, yc) * h.q.dx;
+    return 2.0 * std::fabs(h.q.dx) * std::max(std::fabs(k_u) * t.width, std::fabs(k_v) * t.height);
+}
+
+// The longest sub-span the bound allows from a pixel where q has the value q:
+//   L^2 / 8 * curvature / q^3 <= tolerance.
+double adaptive_fit(const SpanTexturing& t, double curvature, double q) {
+    return std::sqrt(8.0 * t.tolerance * q * q * q / curvature);
+}
+
 int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
     const int last = x0 + n - 1;
-    // K = (du'/dx) q - u' (dq/dx): constant along the row.
-    const double q0 = h.q.at(x0 + 0.5, yc);
-    const double k_u = h.u_prime.dx * q0 - h.u_prime.at(x0 + 0.5, yc) * h.q.dx;
-    const double k_v = h.v_prime.dx * q0 - h.v_prime.at(x0 + 0.5, yc) * h.q.dx;
-    // max |u''| in texels = curvature / q^3.
-    const double curvature = 2.0 * std::fabs(h.q.dx) * std::max(std::fabs(k_u) * t.width, std::fabs(k_v) * t.height);
+    const double curvature = adaptive_curvature(t, yc, x0);
     // Walk the span in the direction in which q grows: then the smallest q of every sub-span
     // is at its start, and the longest allowed length follows in closed form,
     //   L^2 / 8 * curvature / q_start^3 <= tolerance.
@@ -74,8 +85,7 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
         const int remaining = (end - a) * direction;
         int length = remaining;
         if (curvature > 0.0) {
-            const double q = h.q.at(a + 0.5, yc);
-            const double fit = std::sqrt(8.0 * t.tolerance * q * q * q / curvature);
+            const double fit = adaptive_fit(t, curvature, h.q.at(a + 0.5, yc));
             length = fit < double(remaining) ? std::max(1, int(fit)) : remaining;
         }
         if (length < stepped_below) {
@@ -104,6 +114,16 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
 }
 
 }  // namespace
+
+bool adaptive_steps_whole_span(const SpanTexturing& t, int y, int x0, int n) {
+    if (n <= 0) return false;
+    const double yc = y + 0.5;
+    const double curvature = adaptive_curvature(t, yc, x0);
+    if (!(curvature > 0.0)) return false;  // straight (or unmeasurable): adaptive() decides
+    // q is linear along the span, largest at one end, and the allowed length grows with q.
+    const double q_max = std::max(t.h->q.at(x0 + 0.5, yc), t.h->q.at(x0 + n - 0.5, yc));
+    return adaptive_fit(t, curvature, q_max) < double(stepped_below);
+}
 
 const char* span_mode_name(SpanMode mode) { return names[int(mode)]; }
 

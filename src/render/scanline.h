@@ -291,13 +291,16 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     const int x0 = span.x0;
     // Texture coordinates: stepped here (incremental), or precomputed for the span by
     // another span mode, which may need no divide per pixel at all.
-    const bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
+    bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
     if constexpr ((N & need_uv) != 0)
         if (!stepped_uv) {
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
             t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
-            span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
+            if (d.span_mode == SpanMode::adaptive && adaptive_steps_whole_span(t, y, x0, span.x1 - x0))
+                stepped_uv = true;  // it would step every pixel: step them here
+            else
+                span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
         }
 
     SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);

@@ -40,4 +40,9 @@ struct SpanTexturing {
 // u[0..n) and v[0..n). Returns the number of divisions it made.
 int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v);
 
+// Whether the adaptive mode steps every pixel of this span: the bound allows fewer than 16
+// pixels even where q is largest. The span walk then steps them itself, as in the
+// incremental mode, instead of having them computed first (same arithmetic, less traffic).
+bool adaptive_steps_whole_span(const SpanTexturing& t, int y, int x0, int n);
+
 }  // namespace texr
