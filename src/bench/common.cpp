@@ -69,7 +69,7 @@ void time_interleaved(std::vector<TimedCase>& cases, int repeat) {
             const auto start = Clock::now();
             Framebuffer frame = render(*c.scene, c.options, c.stats);
             times[i].push_back(ms_since(start));
-            if (r + 1 == repeat) c.last = std::move(frame);
+            if (c.keep_last && r + 1 == repeat) c.last = std::move(frame);
         }
     for (std::size_t i = 0; i < cases.size(); ++i) cases[i].median_ms = median(times[i]);
 }

@@ -37,7 +37,8 @@ struct TimedCase {
     const Scene* scene = nullptr;
     RenderOptions options;
     RenderStats stats;                          // the last frame's counters
-    Framebuffer last{1, 1, Color(0.0f)};        // the last frame
+    bool keep_last = true;                      // keep the last frame (filters scores it)
+    Framebuffer last{1, 1, Color(0.0f)};        // the last frame, if kept
     double median_ms = 0.0;
 };
 void time_interleaved(std::vector<TimedCase>& cases, int repeat);
