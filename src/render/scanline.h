@@ -217,6 +217,10 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
     return within != 0;
 }
 
+// Spans shorter than this are walked pixel by pixel. (The 1M-triangle terrain, whose spans
+// are mostly one or two pixels, took 85M more instructions (5%) when every span was batched.)
+constexpr int batched_from = 16;
+
 // The span walk of a short path. The same values as shade_span_on's, computed in batches of
 // pixels and three passes per batch, so that no pixel's long chain of dependent steps
 // (divide, level of detail, texel address, texel loads, blend) waits for the one before:
@@ -226,10 +230,6 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
 //   3. for those pixels: the texture lookup and shading.
 // A triangle covers each pixel of a span once, so the order of passes 2 and 3 among pixels
 // changes nothing: the frame is the same bytes as a pixel-by-pixel walk.
-// Spans shorter than this are walked pixel by pixel. (The 1M-triangle terrain, whose spans
-// are mostly one or two pixels, took 85M more instructions (5%) when every span was batched.)
-constexpr int batched_from = 16;
-
 template <Needs N, TexturePath P>
 void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
                         ShortPathTexture& t, bool stepped_uv, SteppedPlane depth, SteppedPlane q, SteppedPlane u_prime,
