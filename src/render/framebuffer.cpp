@@ -1,6 +1,7 @@
+// Clearing the frame's rows (see include/texr/render/framebuffer.h).
 #include "texr/render/framebuffer.h"
 
-#include <cstring>
+#include <cstdint>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -12,7 +13,7 @@ namespace {
 
 // Fills floats [first, last) of `out` with the repeating pattern p[k % period], k counted
 // from `out`. The frame's buffers are written with streaming stores, which bypass the
-// cache: a clear writes 15 bytes per pixel that nothing reads before the span walk, and an
+// cache: a clear writes 16 bytes per pixel that nothing reads before the span walk, and an
 // ordinary store first reads each line it writes (measured: 1024x768 cleared in 0.6 ms
 // instead of 1.4).
 void stream_fill(float* out, std::size_t first, std::size_t last, const float* p, std::size_t period) {
