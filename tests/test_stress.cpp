@@ -299,6 +299,13 @@ TEST_CASE("stress: a closed mesh covers every covered pixel exactly once (front 
     }
 }
 
+// The filters that have short paths, and span modes of every kind (stepped, precomputed
+// exactly, interpolated, adaptive, affine) for comparing them with the general path.
+constexpr Filter short_path_filters[] = {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest,
+                                         Filter::bilinear_mip_nearest, Filter::trilinear};
+constexpr SpanMode compared_span_modes[] = {SpanMode::incremental, SpanMode::exact, SpanMode::adaptive, SpanMode::affine16,
+                                            SpanMode::affine};
+
 // Renders the scene as given (short texture paths where they apply) and with (u, v)
 // captured, which forces the general path on every pixel; checks that the two agree.
 struct FrameAndStats {
@@ -321,9 +328,8 @@ TEST_CASE("stress: the short texture paths read what the general path reads, up 
     // A 64x64 power-of-two texture with repeat takes the short paths, which check a span's
     // coordinates once (not each pixel) and hand a span beyond 1e15 texels to the general
     // path. Capturing (u, v) forces the general path everywhere: the frames must be equal.
-    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
-                          Filter::trilinear}) {
-        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::adaptive, SpanMode::affine16, SpanMode::affine}) {
+    for (Filter filter : short_path_filters) {
+        for (SpanMode mode : compared_span_modes) {
             CAPTURE(filter_name(filter));
             CAPTURE(int(mode));
             Scene scene = testing::camera_scene(96, 64, {0, 1, 2}, {0, 0, -3}, 60.0, 0.1, 100.0);
@@ -345,9 +351,8 @@ TEST_CASE("the batched span walk of the short paths gives the pixel-by-pixel wal
     // middle of batches fail the depth test behind an occluder drawn first, and one material
     // is lit (normals interpolated per pixel). Capturing (u, v) forces the general path, which
     // walks pixel by pixel: the frames must be equal.
-    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest,
-                          Filter::trilinear}) {
-        for (SpanMode mode : {SpanMode::incremental, SpanMode::exact, SpanMode::affine16, SpanMode::affine, SpanMode::adaptive}) {
+    for (Filter filter : short_path_filters) {
+        for (SpanMode mode : compared_span_modes) {
             CAPTURE(filter_name(filter));
             CAPTURE(int(mode));
             Scene scene = testing::camera_scene(331, 97, {0, 1, 2}, {0, 0.5, -3}, 60.0, 0.1, 100.0);

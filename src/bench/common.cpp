@@ -42,18 +42,12 @@ std::string fixed(double v, int digits) {
     return buffer;
 }
 
-double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats, Framebuffer* last) {
-    RenderStats warm;
-    render(scene, options, warm);
-    std::vector<double> times;
-    for (int r = 0; r < repeat; ++r) {
-        stats = RenderStats{};
-        const auto start = Clock::now();
-        Framebuffer frame = render(scene, options, stats);
-        times.push_back(ms_since(start));
-        if (last && r + 1 == repeat) *last = std::move(frame);
-    }
-    return median(times);
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats) {
+    std::vector<TimedCase> cases(1);
+    cases[0].scene = &scene, cases[0].options = options, cases[0].keep_last = false;
+    time_interleaved(cases, repeat);
+    stats = cases[0].stats;
+    return cases[0].median_ms;
 }
 
 void time_interleaved(std::vector<TimedCase>& cases, int repeat) {

@@ -25,10 +25,9 @@ struct BenchOptions {
 };
 
 double median(std::vector<double> v);
-// Renders once to warm caches, then `repeat` timed frames; returns the median in ms, the
-// last frame's counters and, if asked, the last frame itself.
-double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats,
-                    Framebuffer* last = nullptr);
+// Renders once to warm caches, then `repeat` timed frames; returns the median in ms and the
+// last frame's counters (time_interleaved with one configuration).
+double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats);
 // Several configurations timed in interleaved rounds: one warm-up frame each, then `repeat`
 // rounds in which each renders one frame; the median of each. A slow spell of a shared
 // host (often seconds long) then falls on every configuration alike, so the ratios between
