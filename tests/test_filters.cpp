@@ -326,6 +326,21 @@ TEST_CASE("footprint filters stay bounded and finite for huge, infinite and NaN 
     }
 }
 
+TEST_CASE("EWA with one derivative vector NaN treats it as degenerate: a finite mean of a few texels") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(64, 64, 19)));
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    Sampler s;
+    for (const UVDerivatives& d : {UVDerivatives{0.05, 0.01, nan, 0.0}, UVDerivatives{nan, 0.0, 0.02, 0.01}}) {
+        int texels = 0;
+        const Color4 e = sample_ewa(mip, s, 0.3, 0.6, d, texels);
+        // The finite vector is the major axis (3.3 or 1.4 texels) and the minor one is
+        // stretched to a sixteenth of it: an ellipse of a few texels, on the base level.
+        CHECK(texels > 4);
+        CHECK(texels <= 20);
+        for (int c = 0; c < 4; ++c) CHECK(std::isfinite(e[c]));
+    }
+}
+
 TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1") {
     const MipMap mip(std::make_shared<Image>(random_hdr(16, 16, 31)));
     Sampler s;
@@ -378,6 +393,88 @@ TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the m
             const Color4 got = sample_anisotropic(mip, s, u, 0.6, d, probes);
             CHECK(probes == n);
             for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(1e-6));
+        }
+    }
+}
+
+namespace {
+
+// EWA at one level, from the definition in ewa.h, summed over every texel near the centre
+// (not a bounding box), with Q evaluated at each texel rather than stepped. Repeat wrap,
+// cell registration. d1, d2: the derivative vectors in this level's texels, already scaled.
+Color4 ewa_level_by_definition(const Image& level, double u, double v, double d1u, double d1v, double d2u, double d2v) {
+    const double a = d1v * d1v + d2v * d2v + 1.0, b = -2.0 * (d1u * d1v + d2u * d2v), c = d1u * d1u + d2u * d2u + 1.0;
+    const double f = a * c - b * b / 4.0;
+    const double cs = u * level.width() - 0.5, ct = v * level.height() - 0.5;
+    const auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+    Color4 sum(0.0f);
+    double weight_sum = 0.0;
+    const int reach = 200;  // beyond any ellipse the tests below make
+    for (int j = int(ct) - reach; j <= int(ct) + reach; ++j)
+        for (int i = int(cs) - reach; i <= int(cs) + reach; ++i) {
+            const double s = i - cs, t = j - ct;
+            const double r2 = (a * s * s + b * s * t + c * t * t) / f;
+            if (!(r2 < 1.0)) continue;
+            // The weights are tabulated at r^2 = k / 127 and read at the entry below r^2.
+            const double tabulated_r2 = std::floor(std::max(r2, 0.0) * 127.0) / 127.0;
+            const double weight = std::exp(-2.0 * tabulated_r2) - std::exp(-2.0);
+            sum += float(weight) * level.texel(wrap(i, level.width()), wrap(j, level.height()));
+            weight_sum += weight;
+        }
+    return sum / float(weight_sum);
+}
+
+}  // namespace
+
+TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between two levels") {
+    // Worked out from the definition (ewa.h): the derivative vectors in base texels, the
+    // minor axis stretched to major / max anisotropy, lambda = log2(minor), the axes scaled
+    // by 0.7 and taken to each level's texels, the two levels blended by lambda's fraction.
+    // Three textures: 8-bit power-of-two and 8-bit 48x40 (read through row addresses) and
+    // float (read through Image::texel). The last footprint, at max anisotropy 64, is wider
+    // than the filter's 128 tabulated columns.
+    std::mt19937_64 rng(29);
+    std::vector<std::uint8_t> bytes(64 * 64 * 4), odd_bytes(48 * 40 * 4);
+    for (auto& byte : bytes) byte = std::uint8_t(rng() % 256);
+    for (auto& byte : odd_bytes) byte = std::uint8_t(rng() % 256);
+    const MipMap textures[] = {MipMap(std::make_shared<Image>(Image::ldr(64, 64, ColorSpace::srgb, bytes))),
+                               MipMap(std::make_shared<Image>(Image::ldr(48, 40, ColorSpace::srgb, odd_bytes))),
+                               MipMap(std::make_shared<Image>(random_hdr(64, 64, 31)))};
+    struct Footprint {
+        double d1u, d1v, d2u, d2v;  // base texels
+        float max_anisotropy;
+    };
+    for (const Footprint& fp : {Footprint{0.6, 0.2, -0.1, 0.5, 16}, Footprint{5.0, 2.0, -0.3, 1.1, 16}, Footprint{1.5, 9.0, 2.1, -0.2, 16},
+                                Footprint{30.0, 0.0, 0.0, 0.2, 16}, Footprint{0.0, 3.2, 2.3, 0.0, 16}, Footprint{240.0, 12.0, 0.0, 1.0, 64}}) {
+        for (const MipMap& mip : textures) {
+            const double w = mip.base().width(), h = mip.base().height();
+            Sampler s;
+            s.max_anisotropy = fp.max_anisotropy;
+            double d1u = fp.d1u, d1v = fp.d1v, d2u = fp.d2u, d2v = fp.d2v;
+            double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
+            if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+            if (minor * fp.max_anisotropy < major) {
+                const double stretch = major / fp.max_anisotropy / minor;
+                d2u *= stretch, d2v *= stretch, minor *= stretch;
+            }
+            const double lambda = std::max(0.0, std::log2(minor));
+            const int l0 = int(lambda);
+            const auto at = [&](int l, double u, double v) {
+                const Image& level = mip.level(l);
+                const double kx = 0.7 * level.width() / w, ky = 0.7 * level.height() / h;
+                return ewa_level_by_definition(level, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky);
+            };
+            for (int k = 0; k < 4; ++k) {
+                const double u = double(rng() % 1000) / 1000.0, v = double(rng() % 1000) / 1000.0;
+                CAPTURE(u);
+                CAPTURE(v);
+                CAPTURE(lambda);
+                const Color4 a = at(l0, u, v), b = at(l0 + 1, u, v);
+                const Color4 expected = a + float(lambda - l0) * (b - a);
+                int texels = 0;
+                const Color4 got = sample_ewa(mip, s, u, v, {fp.d1u / w, fp.d1v / h, fp.d2u / w, fp.d2v / h}, texels);
+                for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(2e-3));
+            }
         }
     }
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "texr/texture/reconstruct.h"
 
@@ -62,35 +63,53 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
         return std::clamp(x, -half - 2.0, double(n) + half + 2.0);
     };
     const double cs = centre(u, w, half_s, s.wrap_u), ct = centre(v, h, half_t, s.wrap_v);
-    const int s0 = int(std::ceil(cs - half_s)), s1 = int(std::floor(cs + half_s));
-    const int t0 = int(std::ceil(ct - half_t)), t1 = int(std::floor(ct + half_t));
+    // The box is a few hundred texels at most (max_anisotropy <= 64), so the floors fit in int.
+    const int s0 = int(-floor_to_int64(half_s - cs)), s1 = int(floor_to_int64(cs + half_s));
+    const int t0 = int(-floor_to_int64(half_t - ct)), t1 = int(floor_to_int64(ct + half_t));
 
     const auto& weights = gaussian_weights();
     Color4 sum(0.0f);
     float weight_sum = 0.0f;
     // Wrap the box's columns once (the usual box is a few dozen texels wide); rows are
     // wrapped once each. Q is stepped along a row: Q(s + 1) - Q(s) = a (2 s + 1) + b t.
-    constexpr int max_columns = 128;
-    int columns[max_columns];
+    // `visit` walks the ellipse; row_at(j) and texel_at(row, column) read the texels, so an
+    // 8-bit image with no border can be read through row addresses.
+    constexpr int stack_columns = 128;
+    int stack_column_store[stack_columns];
+    std::vector<int> heap_column_store;  // a footprint wider than the stack store (a high max anisotropy)
     const int width = s1 - s0 + 1;
-    const bool tabulated = width <= max_columns;
-    if (tabulated)
-        for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
-    for (int it = t0; it <= t1; ++it) {
-        const double tt = it - ct;
-        const int row = wrap_index(s.wrap_v, it, h, node);
-        double ss = s0 - cs;
-        double r2 = a * ss * ss + b * ss * tt + c * tt * tt;
-        double step = a * (2.0 * ss + 1.0) + b * tt;
-        for (int is = s0; is <= s1; ++is, r2 += step, step += 2.0 * a) {
-            if (!(r2 >= 0.0 && r2 < 1.0)) continue;  // outside the ellipse (or NaN)
-            const float weight = weights[std::size_t(r2 * (weight_table_size - 1))];
-            const int column = tabulated ? columns[is - s0] : wrap_index(s.wrap_u, is, w, node);
-            sum += weight * ((column < 0 || row < 0) ? s.border : image.texel(column, row));
-            weight_sum += weight;
-            ++texels;
+    if (width > stack_columns) heap_column_store.resize(std::size_t(width));
+    int* const columns = width > stack_columns ? heap_column_store.data() : stack_column_store;
+    for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
+    const float* const weight_of = weights.data();
+    int inside = 0;
+    const auto visit = [&](auto row_at, auto texel_at) {
+        for (int it = t0; it <= t1; ++it) {
+            const double tt = it - ct;
+            const auto row = row_at(wrap_index(s.wrap_v, it, h, node));
+            double ss = s0 - cs;
+            double r2 = a * ss * ss + b * ss * tt + c * tt * tt;
+            double step = a * (2.0 * ss + 1.0) + b * tt;
+            for (int k = 0; k < width; ++k, r2 += step, step += 2.0 * a) {
+                if (!(r2 < 1.0)) continue;  // outside the ellipse (or NaN)
+                // Q >= 0 (the form is positive definite); stepping may round it below 0.
+                const float weight = weight_of[int(std::max(r2, 0.0) * (weight_table_size - 1))];
+                sum += weight * texel_at(row, columns[k]);
+                weight_sum += weight;
+                ++inside;
+            }
         }
+    };
+    const bool bordered = s.wrap_u == Wrap::border || s.wrap_v == Wrap::border;
+    if (!image.is_hdr() && !bordered) {
+        const LdrLevel level = image.ldr_level();
+        visit([&](int j) { return level.texels + std::size_t(j) * level.row_bytes; },
+              [&](const std::uint8_t* row, int i) { return decode_ldr_texel(row + std::size_t(i) * 4, level.decode); });
+    } else {
+        visit([](int j) { return j; },
+              [&](int j, int i) { return (i < 0 || j < 0) ? s.border : image.texel(i, j); });
     }
+    texels += inside;
     if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
     return sum / weight_sum;
 }
@@ -103,14 +122,14 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     const double w = mip.base().width(), h = mip.base().height();
     double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
     double major = std::sqrt(d1u * d1u + d1v * d1v), minor = std::sqrt(d2u * d2u + d2v * d2v);
-    if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+    if (minor > major || std::isnan(major)) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
-    // reading an unbounded number of texels).
-    if (minor * s.max_anisotropy < major) {
+    // reading an unbounded number of texels). A NaN minor axis counts as degenerate.
+    if (!(minor * s.max_anisotropy >= major)) {
         const double target = major / s.max_anisotropy;
         if (minor > 0.0) {
             d2u *= target / minor, d2v *= target / minor;

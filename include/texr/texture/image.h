@@ -13,8 +13,9 @@ namespace texr {
 
 enum class ColorSpace { srgb, linear };
 
-// An 8-bit power-of-two image (or mip level) as the short texture paths read it: the
-// values they need per lookup, loaded once per triangle instead of through the Image.
+// An 8-bit image (or mip level) as the short texture paths and EWA read it: the values they
+// need per lookup, loaded once per triangle (or footprint) instead of through the Image.
+// The masks mean something only for power-of-two sides (the short paths' images).
 struct LdrLevel {
     const std::uint8_t* texels = nullptr;  // RGBA rows, bottom row first
     const float* decode = nullptr;         // byte -> linear value
@@ -77,7 +78,7 @@ public:
                                 std::size_t(i0) * 4, std::size_t(i1) * 4, decode_, fu, fv);
     }
 
-    // The short paths' view of an is_ldr_pow2() image.
+    // The view of an 8-bit image (see LdrLevel).
     LdrLevel ldr_level() const {
         return {texels_8_.data(), decode_, double(width_), double(height_), std::int64_t(width_) - 1,
                 std::int64_t(height_) - 1, std::size_t(width_) * 4};

@@ -33,6 +33,7 @@ inline bool outside_border(double u) { return u < 0.0 || u > 1.0; }
 
 // --- integer texel index form (n texels along the axis) ---------------------------------
 inline int floor_mod(int i, int n) {
+    if (unsigned(i) < unsigned(n)) return i;  // already in [0, n): the usual case, with no divide
     const int r = i % n;
     return r < 0 ? r + n : r;
 }
