@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "texr/texture/minify.h"
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
@@ -144,7 +145,7 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // footprint wider than the coarsest level reads that level's average, as the ellipse
     // there would cover the whole image (and cost without bound).
     const int last = mip.level_count() - 1;
-    const double lambda = std::max(0.0, std::log2(std::max(minor, 1e-300)));
+    const double lambda = std::max(0.0, minify_detail::log2_positive(std::max(minor, 1e-300)));
     if (lambda >= double(last)) {
         texels = 4;
         return sample_bilinear(mip.level(last), s, u, v);
