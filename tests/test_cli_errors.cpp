@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <map>
 
 #include "helpers.h"
 
@@ -276,6 +277,18 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
     for (const char* name : {"filters", "spans", "threads", "scale"})
         for (const char* ext : {".csv", ".md", ".svg"}) CHECK(file_exists(dir + "/" + name + ext));
     CHECK(file_exists(dir + "/index.md"));
+    // The issues' targets, each checked: 5 from filters, 4 from spans, 8 from threads, 2 from scale.
+    std::ifstream targets(dir + "/targets.md");
+    std::string line;
+    std::map<std::string, int> per_benchmark;
+    while (std::getline(targets, line))
+        for (const char* name : {"filters", "spans", "threads", "scale"})
+            if (line.rfind(std::string("| ") + name + " |", 0) == 0) ++per_benchmark[name];
+    CHECK(per_benchmark["filters"] == 5);
+    CHECK(per_benchmark["spans"] == 4);
+    CHECK(per_benchmark["threads"] == 8);
+    CHECK(per_benchmark["scale"] == 2);
+    CHECK(r.output.find("of 19 targets met") != std::string::npos);
     // Every CSV row names the scene, size, threads, filter and mode (issue 4).
     std::ifstream csv(dir + "/spans.csv");
     std::string header;

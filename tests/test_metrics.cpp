@@ -5,6 +5,7 @@
 #include <random>
 
 #include "texr/bench/metrics.h"
+#include "texr/bench/targets.h"
 
 using namespace texr;
 
@@ -39,4 +40,22 @@ TEST_CASE("SSIM: 1 for identical frames, lower for noise, symmetric") {
     const double s = ssim(a, b, all);
     CHECK(s < 0.2);  // independent noise: no structure in common
     CHECK(s == doctest::Approx(ssim(b, a, all)));
+}
+
+TEST_CASE("bench targets: met at the threshold, missed past it or on NaN, counted in the table") {
+    using namespace texr::bench;
+    CHECK(at_least("filters", "g", "c", 120.0, 120.0, "Mpx/s", 1).met);
+    CHECK_FALSE(at_least("filters", "g", "c", 119.95, 120.0, "Mpx/s", 1).met);
+    CHECK(at_most("filters", "g", "c", 8.0, 8.0, "x", 2).met);
+    CHECK_FALSE(at_most("filters", "g", "c", 8.01, 8.0, "x", 2).met);
+    CHECK_FALSE(at_least("filters", "g", "c", std::nan(""), 1.0, "", 1).met);
+    CHECK_FALSE(at_most("filters", "g", "c", std::nan(""), 1.0, "", 1).met);
+    // the measured text: decimals or significant digits, and the unit
+    CHECK(at_least("filters", "g", "c", 59.84, 120.0, "Mpx/s", 1).measured == "59.8 Mpx/s");
+    CHECK(at_most("filters", "g", "c", 7.954, 8.0, "x (150 / 20 ms)", 2).measured == "7.95x (150 / 20 ms)");
+    CHECK(at_most("spans", "g", "c", 5.5e-11, 1.0 / 64, "texel", -3).measured == "5.5e-11 texel");
+    const std::string md = targets_markdown({at_least("a", "first", "c1", 2.0, 1.0, "", 0), at_most("b", "second", "c2", 2.0, 1.0, "", 0)});
+    CHECK(md.find("| a | first | 2 | c1 | yes |") != std::string::npos);
+    CHECK(md.find("| b | second | 2 | c2 | no |") != std::string::npos);
+    CHECK(md.find("1 of 2 targets met") != std::string::npos);
 }

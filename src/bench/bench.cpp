@@ -1,5 +1,5 @@
 // texr bench: parses the command line and runs the benchmarks (src/bench/filters.cpp,
-// spans.cpp, scale.cpp) into out/bench/ with an index.
+// spans.cpp, threads.cpp, scale.cpp) into out/bench/ with an index and the checked targets.
 #include "texr/bench/bench.h"
 
 #include <stdexcept>
@@ -13,7 +13,8 @@ const char* bench_help =
     "usage: texr bench [NAME] [options]\n"
     "\n"
     "Benchmarks; without NAME runs all of them. Results go to out/bench/ (CSV, a Markdown\n"
-    "table and an SVG plot per benchmark, and index.md).\n"
+    "table and an SVG plot per benchmark, and index.md). The issues' targets that the run\n"
+    "measures are checked against its numbers: printed, and written to targets.md.\n"
     "\n"
     "benchmarks:\n"
     "  filters     every texture filter on a receding plane and a grazing-angle square:\n"
@@ -85,23 +86,32 @@ int run_bench(const std::vector<std::string>& args) {
     if (names.empty()) names = {"filters", "spans", "threads", "scale"};
     make_folders(o.out);
     std::string index = "# texr benchmarks\n\n";
+    std::vector<Target> targets;
+    const auto checked = [&](std::vector<Target> more) { targets.insert(targets.end(), more.begin(), more.end()); };
     for (const std::string& name : names) {
         if (name == "filters") {
-            run_filters(o);
+            checked(run_filters(o));
             index += "- [filters](filters.md): every texture filter, time against error ([csv](filters.csv), [plot](filters.svg))\n";
         } else if (name == "spans") {
-            run_spans(o);
+            checked(run_spans(o));
             index += "- [spans](spans.md): span modes, time against texture coordinate error ([csv](spans.csv), [plot](spans.svg))\n";
         } else if (name == "threads") {
-            run_threads(o);
+            checked(run_threads(o));
             index += "- [threads](threads.md): nearest, bilinear, trilinear and EWA on 1 thread and on every core ([csv](threads.csv), [plot](threads.svg))\n";
         } else if (name == "scale") {
-            run_scale(o);
+            checked(run_scale(o));
             index += "- [scale](scale.md): time and memory as triangles, pixels and texture size grow ([csv](scale.csv), [plot](scale.svg))\n";
         }
     }
+    index += "- [targets](targets.md): the issues' targets, checked against this run\n";
+    write_text_file(o.out + "/targets.md", "# texr bench: targets\n\n" + targets_markdown(targets));
     write_text_file(o.out + "/index.md", index);
-    std::printf("wrote %s/index.md\n", o.out.c_str());
+    int met = 0;
+    for (const Target& t : targets) {
+        std::printf("target %-3s  %-62s %s\n", t.met ? "met" : "no", (t.benchmark + ": " + t.goal).c_str(), t.measured.c_str());
+        met += t.met ? 1 : 0;
+    }
+    std::printf("%d of %zu targets met (%s/targets.md)\nwrote %s/index.md\n", met, targets.size(), o.out.c_str(), o.out.c_str());
     return 0;
 }
 

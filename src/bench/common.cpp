@@ -35,6 +35,10 @@ void write_text_file(const std::string& path, const std::string& text) {
     write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
 }
 
+std::string conditions_of(int width, int height, int threads) {
+    return std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+}
+
 std::string fixed(double v, int digits) {
     char buffer[64];
     if (std::isinf(v)) return "inf";

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "texr/bench/targets.h"
 #include "texr/render/framebuffer.h"
 #include "texr/render/renderer.h"
 
@@ -49,10 +50,13 @@ void write_text_file(const std::string& path, const std::string& text);
 // v with `digits` decimals ("inf" for infinity).
 std::string fixed(double v, int digits);
 
-// The benchmarks: each renders, measures and writes NAME.csv, NAME.md and NAME.svg.
-void run_filters(const BenchOptions& o);
-void run_spans(const BenchOptions& o);
-void run_scale(const BenchOptions& o);
-void run_threads(const BenchOptions& o);
+// The benchmarks: each renders, measures and writes NAME.csv, NAME.md and NAME.svg, and
+// returns its targets checked against what it measured.
+std::vector<Target> run_filters(const BenchOptions& o);
+std::vector<Target> run_spans(const BenchOptions& o);
+std::vector<Target> run_scale(const BenchOptions& o);
+std::vector<Target> run_threads(const BenchOptions& o);
+// "1024x768, 1 thread" (or "threads")
+std::string conditions_of(int width, int height, int threads);
 
 }  // namespace texr::bench

@@ -4,6 +4,7 @@
 #include "common.h"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include "texr/bench/metrics.h"
 #include "texr/bench/plot.h"
@@ -106,10 +107,31 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
                     scatter_svg({"texr bench filters: run time against error", "median frame time, ms", "PSNR, dB", true}, points));
 }
 
-// --- texr bench spans ----------------------------------------------------------------------
+// Issue 3's targets, on the receding plane: bilinear >= 120 and trilinear >= 70 Mpx/s of
+// covered pixels, trilinear >= 29.5 dB, EWA >= 35 dB in at most 8x trilinear's time.
+std::vector<Target> filters_targets(const BenchOptions& o, const std::vector<FilterRow>& rows) {
+    const auto plane = [&](const std::string& filter) {
+        for (const FilterRow& r : rows)
+            if (r.scene == "plane" && r.filter == filter) return r;
+        throw std::logic_error("bench filters: no plane row for " + filter);
+    };
+    const FilterRow bilinear = plane("bilinear"), trilinear = plane("trilinear"), ewa = plane("ewa");
+    const std::string conditions = conditions_of(o.width, o.height, o.threads);
+    const std::string truth = ", against " + std::to_string(o.spp) + "x" + std::to_string(o.spp) + " supersampling";
+    return {at_least("filters", "plane, bilinear: >= 120 covered Mpx/s", conditions, bilinear.mpix_per_s, 120.0, "Mpx/s", 1),
+            at_least("filters", "plane, trilinear: >= 70 covered Mpx/s", conditions, trilinear.mpix_per_s, 70.0, "Mpx/s", 1),
+            at_least("filters", "plane, trilinear: PSNR >= 29.5 dB", conditions + truth, trilinear.psnr_db, 29.5, "dB", 2),
+            at_least("filters", "plane, EWA: PSNR >= 35 dB", conditions + truth, ewa.psnr_db, 35.0, "dB", 2),
+            at_most("filters", "plane, EWA: frame time <= 8x trilinear's", conditions, ewa.frame_ms / trilinear.frame_ms, 8.0,
+                    "x (" + fixed(ewa.frame_ms, 1) + " / " + fixed(trilinear.frame_ms, 1) + " ms)", 2)};
+}
 
 }  // namespace
 
-void run_filters(const BenchOptions& o) { write_filters_report(o, bench_filters(o)); }
+std::vector<Target> run_filters(const BenchOptions& o) {
+    const std::vector<FilterRow> rows = bench_filters(o);
+    write_filters_report(o, rows);
+    return filters_targets(o, rows);
+}
 
 }  // namespace texr::bench

@@ -218,8 +218,35 @@ void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows
     write_text_file(o.out + "/scale.svg", scatter_svg(axes, points));
 }
 
+// Issue 4's targets: the largest terrain (1M triangles) at >= 10 M triangles/s on 2 threads;
+// the largest texture (8192^2) with its mip levels in at most 1.25x the data's memory.
+std::vector<Target> scale_targets(const std::vector<ScaleRow>& rows) {
+    const ScaleRow* terrain = nullptr;
+    const ScaleRow* texture = nullptr;
+    for (const ScaleRow& r : rows) {
+        if (r.dimension == "triangles" && (!terrain || r.size > terrain->size)) terrain = &r;
+        if (r.dimension == "texture" && (!texture || r.size > texture->size)) texture = &r;
+    }
+    std::vector<Target> targets;
+    if (terrain)
+        targets.push_back(at_least("scale", "1M-triangle terrain: >= 10 M triangles/s on 2 threads",
+                                   fixed(terrain->size, 0) + " triangles, " + conditions_of(terrain->width, terrain->height, terrain->threads),
+                                   terrain->rate, 10.0, "M triangles/s", 2));
+    if (texture)
+        targets.push_back(at_most("scale", "8192^2 texture: peak memory <= 1.25x texels + mip levels + frame",
+                                  std::to_string(int(std::lround(std::sqrt(texture->size)))) + "^2 texture, " +
+                                      conditions_of(texture->width, texture->height, texture->threads),
+                                  texture->peak_mb / texture->expected_mb, 1.25,
+                                  "x (" + fixed(texture->peak_mb, 0) + " / " + fixed(texture->expected_mb, 0) + " MB)", 2));
+    return targets;
+}
+
 }  // namespace
 
-void run_scale(const BenchOptions& o) { write_scale_report(o, bench_scale(o)); }
+std::vector<Target> run_scale(const BenchOptions& o) {
+    const std::vector<ScaleRow> rows = bench_scale(o);
+    write_scale_report(o, rows);
+    return scale_targets(rows);
+}
 
 }  // namespace texr::bench

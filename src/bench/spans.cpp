@@ -97,10 +97,36 @@ void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows)
     write_text_file(o.out + "/spans.svg", scatter_svg(axes, points));
 }
 
-// --- texr bench scale -----------------------------------------------------------------------
+// Issue 4's targets, per scene: the adaptive mode keeps its error bound (1/64 texel) and
+// takes at most 1.1x the fastest mode's time.
+std::vector<Target> spans_targets(const BenchOptions& o, const std::vector<SpanRow>& rows) {
+    std::vector<Target> targets;
+    const double tolerance = RenderOptions{}.span_tolerance;
+    for (const std::string scene : {"plane", "grazing"}) {
+        const SpanRow* adaptive = nullptr;
+        const SpanRow* fastest = nullptr;
+        for (const SpanRow& r : rows) {
+            if (r.scene != scene) continue;
+            if (r.mode == "adaptive") adaptive = &r;
+            else if (!fastest || r.frame_ms < fastest->frame_ms) fastest = &r;
+        }
+        if (!adaptive || !fastest) continue;
+        const std::string conditions = conditions_of(o.width, o.height, o.threads) + ", bilinear";
+        targets.push_back(at_most("spans", scene + ", adaptive: max error <= 1/64 texel", conditions, adaptive->max_error,
+                                  tolerance, "texel", -3));
+        targets.push_back(at_most("spans", scene + ", adaptive: frame time <= 1.1x the fastest mode's", conditions,
+                                  adaptive->frame_ms / fastest->frame_ms, 1.1,
+                                  "x " + fastest->mode + " (" + fixed(adaptive->frame_ms, 2) + " / " + fixed(fastest->frame_ms, 2) + " ms)", 2));
+    }
+    return targets;
+}
 
 }  // namespace
 
-void run_spans(const BenchOptions& o) { write_spans_report(o, bench_spans(o)); }
+std::vector<Target> run_spans(const BenchOptions& o) {
+    const std::vector<SpanRow> rows = bench_spans(o);
+    write_spans_report(o, rows);
+    return spans_targets(o, rows);
+}
 
 }  // namespace texr::bench

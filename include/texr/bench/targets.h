@@ -1,0 +1,27 @@
+// The speed, memory and quality targets of the issues, checked against a bench run's own
+// numbers: texr bench writes every checked target to targets.md (README, "Targets").
+#pragma once
+#include <string>
+#include <vector>
+
+namespace texr::bench {
+
+struct Target {
+    std::string benchmark;   // filters, threads, spans or scale
+    std::string goal;        // what is asked, e.g. "plane, bilinear: covered pixels >= 120 Mpx/s"
+    std::string conditions;  // how this run measured it, e.g. "1024x768, 1 thread"
+    std::string measured;    // e.g. "59.8 Mpx/s"
+    bool met = false;
+};
+
+// value >= threshold (at_least) or value <= threshold (at_most); NaN is never met. `measured`
+// is the value with `digits` decimals (or -digits significant digits when negative) and the unit.
+Target at_least(std::string benchmark, std::string goal, std::string conditions, double value, double threshold,
+                const std::string& unit, int digits);
+Target at_most(std::string benchmark, std::string goal, std::string conditions, double value, double threshold,
+               const std::string& unit, int digits);
+
+// A Markdown table of the targets and a line counting those met.
+std::string targets_markdown(const std::vector<Target>& targets);
+
+}  // namespace texr::bench

@@ -1,0 +1,52 @@
+// Targets checked against a bench run (see include/texr/bench/targets.h).
+#include "texr/bench/targets.h"
+
+#include <cstdio>
+#include <utility>
+
+#include "common.h"
+
+namespace texr::bench {
+
+namespace {
+
+Target checked(std::string benchmark, std::string goal, std::string conditions, double value, const std::string& unit,
+               int digits, bool met) {
+    std::string measured;
+    if (digits >= 0) {
+        measured = fixed(value, digits);
+    } else {  // significant digits
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%.*g", -digits, value);
+        measured = buffer;
+    }
+    if (!unit.empty()) measured += (unit[0] == 'x' ? "" : " ") + unit;  // "1.25x", "59.8 Mpx/s"
+    return {std::move(benchmark), std::move(goal), std::move(conditions), measured, met};
+}
+
+}  // namespace
+
+Target at_least(std::string benchmark, std::string goal, std::string conditions, double value, double threshold,
+                const std::string& unit, int digits) {
+    return checked(std::move(benchmark), std::move(goal), std::move(conditions), value, unit, digits, value >= threshold);
+}
+
+Target at_most(std::string benchmark, std::string goal, std::string conditions, double value, double threshold,
+               const std::string& unit, int digits) {
+    return checked(std::move(benchmark), std::move(goal), std::move(conditions), value, unit, digits, value <= threshold);
+}
+
+std::string targets_markdown(const std::vector<Target>& targets) {
+    std::string md = "| benchmark | target | measured in this run | conditions | met |\n|---|---|---:|---|---|\n";
+    int met = 0;
+    for (const Target& t : targets) {
+        md += "| " + t.benchmark + " | " + t.goal + " | " + t.measured + " | " + t.conditions + " | " + (t.met ? "yes" : "no") + " |\n";
+        met += t.met ? 1 : 0;
+    }
+    md += "\n" + std::to_string(met) + " of " + std::to_string(targets.size()) +
+          " targets met. Times depend on the machine and on what else runs on it; the targets are the issues' "
+          "(1024x768 frames; filters on 1 thread, threads on 2).\n";
+    return md;
+}
+
+}  // namespace texr::bench
