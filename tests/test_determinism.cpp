@@ -3,6 +3,7 @@
 
 #include "helpers.h"
 #include "texr/io/frame_writer.h"
+#include "texr/render/explain.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 
@@ -56,5 +57,33 @@ TEST_CASE("clearing rows writes the background and empty depth to exactly those 
                 CHECK(fb.color[i] == (cleared ? background : marker));
                 CHECK(fb.depth[i] == (cleared ? Framebuffer::empty_depth : -5.0f));
             }
+    }
+}
+
+TEST_CASE("texr explain records the same pixel story for 1, 2 and 3 threads") {
+    // The demo's floor (a 2-triangle chunk: drawn band by band, each band by whichever worker
+    // is free) and its torus (1152 triangles: fixed interleaved bands).
+    const Scene scene = load_scene(testing::source_path("models/demo.scene"));
+    for (auto [x, y] : {std::pair{100, 560}, std::pair{180, 250}, std::pair{400, 20}}) {
+        CAPTURE(x);
+        CAPTURE(y);
+        RenderOptions options;
+        options.explain_x = x, options.explain_y = y;
+        options.threads = 1;
+        RenderStats stats;
+        const Framebuffer reference = render(scene, options, stats);
+        REQUIRE(reference.explanation);
+        for (int threads : {2, 3}) {
+            options.threads = threads;
+            const Framebuffer fb = render(scene, options, stats);
+            REQUIRE(fb.explanation);
+            const PixelExplanation &a = *fb.explanation, &b = *reference.explanation;
+            CHECK(a.covered == b.covered);
+            CHECK(a.object == b.object);
+            CHECK(a.triangle == b.triangle);
+            CHECK(a.depth == b.depth);
+            CHECK(a.color == b.color);
+            CHECK(describe(a, scene) == describe(b, scene));
+        }
     }
 }

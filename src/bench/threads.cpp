@@ -1,8 +1,10 @@
 // texr bench threads: the receding plane at 1024x768 with nearest, bilinear, trilinear and
 // EWA filtering, on 1 thread and on every core: covered pixels per second and the scaling.
+// All eight configurations are timed in interleaved rounds.
 #include "common.h"
 
 #include <cstdio>
+#include <iterator>
 #include <thread>
 #include <utility>
 
@@ -21,22 +23,33 @@ struct ThreadRow {
 
 std::vector<ThreadRow> bench_threads(const BenchOptions& o) {
     const int most = std::max(2, int(std::thread::hardware_concurrency()));
-    Scene scene = load_scene(o.models + "/bench/plane.scene");
-    for (const Texture& t : scene.textures) t.mipmap->build();
-    std::vector<ThreadRow> rows;
-    for (Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear, Filter::ewa}) {
-        for (Texture& t : scene.textures) t.sampler.filter = filter;
-        double single_ms = 0.0;
+    const Scene base = load_scene(o.models + "/bench/plane.scene");
+    for (const Texture& t : base.textures) t.mipmap->build();
+    // Every configuration (filter x thread count) is timed in interleaved rounds
+    // (time_interleaved), so that a slow spell of the host falls on the 1-thread and the
+    // many-thread frames alike and the speed-ups compare frames timed side by side.
+    const Filter filters[] = {Filter::nearest, Filter::bilinear, Filter::trilinear, Filter::ewa};
+    std::vector<Scene> scenes(std::size(filters), base);
+    std::vector<TimedCase> cases;
+    for (std::size_t f = 0; f < std::size(filters); ++f) {
+        for (Texture& t : scenes[f].textures) t.sampler.filter = filters[f];
         for (int threads : {1, most}) {
-            RenderOptions options;
-            options.width = o.width, options.height = o.height, options.threads = threads;
-            RenderStats stats;
-            const double ms = timed_median(scene, options, o.repeat, stats);
-            if (threads == 1) single_ms = ms;
-            rows.push_back({filter_name(filter), threads, ms, double(stats.pixels_shaded) / (ms * 1e3), single_ms / ms});
-            std::fprintf(stderr, "bench threads: %-10s %d thread(s): %8.2f ms %8.1f Mpx/s  x%.2f\n", filter_name(filter), threads,
-                         ms, rows.back().mpix_per_s, rows.back().scaling);
+            TimedCase c;
+            c.scene = &scenes[f];
+            c.options.width = o.width, c.options.height = o.height, c.options.threads = threads;
+            c.keep_last = false;
+            cases.push_back(std::move(c));
         }
+    }
+    time_interleaved(cases, o.repeat);
+    std::vector<ThreadRow> rows;
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        const TimedCase& c = cases[k];
+        const double single_ms = cases[k - k % 2].median_ms;  // the same filter on 1 thread
+        rows.push_back({filter_name(filters[k / 2]), c.options.threads, c.median_ms,
+                        double(c.stats.pixels_shaded) / (c.median_ms * 1e3), single_ms / c.median_ms});
+        std::fprintf(stderr, "bench threads: %-10s %d thread(s): %8.2f ms %8.1f Mpx/s  x%.2f\n", rows.back().filter.c_str(),
+                     c.options.threads, c.median_ms, rows.back().mpix_per_s, rows.back().scaling);
     }
     return rows;
 }

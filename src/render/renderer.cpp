@@ -44,33 +44,31 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Stage two, per worker: the span walk of every prepared piece over the rows it owns.
+// Stage two, per worker: the span walk of prepared pieces over the rows a RowSet names.
 class RasterStage {
 public:
-    RasterStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, const RowSet& rows,
-                Framebuffer& fb, RenderStats& stats)
-        : scene_(scene), needs_(needs), options_(options), rows_(rows), fb_(fb), stats_(stats),
-          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)),
-          explain_(fb.explanation && rows.owns(fb.explanation->y) ? fb.explanation.get() : nullptr) {}
+    RasterStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, Framebuffer& fb,
+                RenderStats& stats)
+        : scene_(scene), needs_(needs), options_(options), fb_(fb), stats_(stats),
+          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {}
 
-    void draw(const PreparedPiece& p) {
-        if (rows_.first_owned(p.s.first_row) > p.s.last_row) return;  // all its rows belong to other workers
+    void draw(const PreparedPiece& p, const RowSet& rows) {
+        if (rows.first_owned(p.s.first_row) > p.s.last_row) return;  // none of its rows are in the set
         const Material& material = scene_.materials[std::size_t(p.material)];
+        PixelExplanation* explain = fb_.explanation && rows.owns(fb_.explanation->y) ? fb_.explanation.get() : nullptr;
         const DrawContext d{scene_, material, material.texture >= 0 ? &scene_.textures[std::size_t(material.texture)] : nullptr,
                             std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,
-                            u_scratch_.data(), v_scratch_.data(), explain_, p.object, p.material, p.triangle, p.clipped};
-        walk_table[needs_[std::size_t(p.material)]](d, p.s, rows_, fb_, stats_);
+                            u_scratch_.data(), v_scratch_.data(), explain, p.object, p.material, p.triangle, p.clipped};
+        walk_table[needs_[std::size_t(p.material)]](d, p.s, rows, fb_, stats_);
     }
 
 private:
     const Scene& scene_;
     const std::vector<Needs>& needs_;
     const RenderOptions& options_;
-    RowSet rows_;
     Framebuffer& fb_;
     RenderStats& stats_;
     std::vector<double> u_scratch_, v_scratch_;
-    PixelExplanation* explain_;
 };
 
 // All workers wait here until every one has arrived. A waiter spins briefly (the others
@@ -137,6 +135,13 @@ struct alignas(64) WorkerSlot {
 // pieces stay in cache between the two stages.
 constexpr std::size_t chunk_triangles = 4096;
 
+// A chunk of at most this many pieces (large triangles, where the pixels are the work) is
+// drawn band by band, each band of rows taken by whichever worker is free, so that a worker
+// whose core is slower, or shared with another program, draws fewer bands instead of
+// holding up the frame. Larger chunks keep each worker's fixed, interleaved bands: looking
+// at every piece once per band would cost more than the balance gains.
+constexpr std::size_t balanced_pieces = 64;
+
 }  // namespace
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
@@ -165,12 +170,15 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     }
 
     // Every worker takes an equal share of each stage's per-vertex and per-triangle work, and
-    // owns interleaved bands of rows for the span walk. Pieces are drawn in submission order
-    // (worker 0's share of a chunk, then worker 1's, ...), so the frame is the same bytes for
-    // any number of workers.
+    // owns interleaved bands of rows for the span walk (or, for a chunk of few pieces, takes
+    // bands as it becomes free: balanced_pieces). Either way one worker draws all of a band's
+    // pixels in a chunk, in submission order (worker 0's share of the chunk, then worker 1's,
+    // ...), so the frame is the same bytes for any number of workers.
     const int workers = std::min(thread_count(options.threads), std::max(1, height / RowSet::band_rows));
     std::vector<WorkerSlot> slots(static_cast<std::size_t>(workers));
     Barrier barrier(workers);
+    const int band_count = (height + RowSet::band_rows - 1) / RowSet::band_rows;
+    std::atomic<int> next_band{0};  // a balanced chunk's next band to draw
     double vertex_seconds = 0.0;
     const auto start = Clock::now();
     auto work = [&](int w) {
@@ -187,16 +195,29 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         if (w == 0) vertex_seconds = seconds_since(start);
         WorkerSlot& slot = slots[std::size_t(w)];
         SetupStage setup(scene, needs, options, fb, slot.counts);
-        RasterStage raster(scene, needs, options, RowSet{w, workers}, fb, slot.counts);
+        RasterStage raster(scene, needs, options, fb, slot.counts);
+        const auto draw_chunk = [&](const RowSet& rows_of_worker) {
+            for (const WorkerSlot& share_of : slots)
+                for (const PreparedPiece& piece : share_of.prepared) raster.draw(piece, rows_of_worker);
+        };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const std::size_t n = scene.meshes[std::size_t(scene.objects[i].mesh)].triangles.size();
             for (std::size_t first = 0; first < n; first += chunk_triangles) {
                 const std::size_t last = std::min(n, first + chunk_triangles);
                 slot.prepared.clear();
                 setup.prepare(int(i), transformed[i], share(first, last, w), share(first, last, w + 1), slot.prepared);
+                // (Every worker has left the previous chunk's bands: it passed the barrier below.)
+                if (w == 0) next_band.store(0, std::memory_order_relaxed);
                 barrier.wait();  // every share of this chunk is prepared
-                for (const WorkerSlot& share_of : slots)
-                    for (const PreparedPiece& piece : share_of.prepared) raster.draw(piece);
+                std::size_t pieces = 0;
+                for (const WorkerSlot& share_of : slots) pieces += share_of.prepared.size();
+                if (workers > 1 && pieces <= balanced_pieces) {
+                    // One band at a time: RowSet{band, band_count} holds band `band` alone.
+                    for (int band; (band = next_band.fetch_add(1, std::memory_order_relaxed)) < band_count;)
+                        draw_chunk(RowSet{band, band_count});
+                } else {
+                    draw_chunk(RowSet{w, workers});
+                }
                 barrier.wait();  // every worker is done with the pieces
             }
         }
