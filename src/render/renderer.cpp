@@ -122,18 +122,22 @@ int thread_count(int requested) {
     return std::max(1, int(std::thread::hardware_concurrency()));
 }
 
-// What one worker writes while the others run: its prepared pieces and its counters, each
-// worker's on cache lines of its own (two workers' vector ends and counters on one line made
-// every push_back and every count a cache miss for the other core: setup ran 1.4x slower on
-// two threads than on one).
+// What one worker writes while the others run, on cache lines of its own (two workers'
+// vector ends and counters on one line made every push_back and every count a cache miss
+// for the other core: setup ran 1.4x slower on two threads than on one): its counters, and
+// the prepared pieces of one batch of triangles.
 struct alignas(64) WorkerSlot {
-    std::vector<PreparedPiece> prepared;
     RenderStats counts;
+};
+struct alignas(64) PreparedBatch {
+    std::vector<PreparedPiece> pieces;
 };
 
 // Triangles are prepared and drawn in chunks of this many: small enough that the prepared
-// pieces stay in cache between the two stages.
+// pieces stay in cache between the two stages. A chunk is prepared in batches of
+// setup_batch triangles, each taken by whichever worker is free.
 constexpr std::size_t chunk_triangles = 4096;
+constexpr std::size_t setup_batch = 256;
 
 // A chunk of at most this many pieces (large triangles, where the pixels are the work) is
 // drawn band by band, each band of rows taken by whichever worker is free, so that a worker
@@ -169,16 +173,19 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         if (mesh_needs & need_normal) transformed[i].normal.resize(mesh.vertices.size());
     }
 
-    // Every worker takes an equal share of each stage's per-vertex and per-triangle work, and
-    // owns interleaved bands of rows for the span walk (or, for a chunk of few pieces, takes
-    // bands as it becomes free: balanced_pieces). Either way one worker draws all of a band's
-    // pixels in a chunk, in submission order (worker 0's share of the chunk, then worker 1's,
-    // ...), so the frame is the same bytes for any number of workers.
+    // Every worker takes an equal share of the vertices; batches of triangles to set up go to
+    // whichever worker is free; each worker owns interleaved bands of rows for the span walk
+    // (or, for a chunk of few pieces, takes bands as it becomes free: balanced_pieces). Either
+    // way one worker draws all of a band's pixels in a chunk, in submission order (the
+    // batches' pieces in triangle order), so the frame is the same bytes for any number of
+    // workers.
     const int workers = std::min(thread_count(options.threads), std::max(1, height / RowSet::band_rows));
     std::vector<WorkerSlot> slots(static_cast<std::size_t>(workers));
     Barrier barrier(workers);
     const int band_count = (height + RowSet::band_rows - 1) / RowSet::band_rows;
     std::atomic<int> next_band{0};  // a balanced chunk's next band to draw
+    std::vector<PreparedBatch> batches(chunk_triangles / setup_batch);
+    std::atomic<std::size_t> next_batch{0};  // the chunk's next batch of triangles to set up
     double vertex_seconds = 0.0;
     const auto start = Clock::now();
     auto work = [&](int w) {
@@ -196,21 +203,27 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         WorkerSlot& slot = slots[std::size_t(w)];
         SetupStage setup(scene, needs, options, fb, slot.counts);
         RasterStage raster(scene, needs, options, fb, slot.counts);
-        const auto draw_chunk = [&](const RowSet& rows_of_worker) {
-            for (const WorkerSlot& share_of : slots)
-                for (const PreparedPiece& piece : share_of.prepared) raster.draw(piece, rows_of_worker);
-        };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const std::size_t n = scene.meshes[std::size_t(scene.objects[i].mesh)].triangles.size();
             for (std::size_t first = 0; first < n; first += chunk_triangles) {
                 const std::size_t last = std::min(n, first + chunk_triangles);
-                slot.prepared.clear();
-                setup.prepare(int(i), transformed[i], share(first, last, w), share(first, last, w + 1), slot.prepared);
+                const std::size_t batch_count = (last - first + setup_batch - 1) / setup_batch;
+                for (std::size_t b; (b = next_batch.fetch_add(1, std::memory_order_relaxed)) < batch_count;) {
+                    std::vector<PreparedPiece>& out = batches[b].pieces;
+                    out.clear();
+                    setup.prepare(int(i), transformed[i], first + b * setup_batch, std::min(last, first + (b + 1) * setup_batch), out);
+                }
                 // (Every worker has left the previous chunk's bands: it passed the barrier below.)
                 if (w == 0) next_band.store(0, std::memory_order_relaxed);
-                barrier.wait();  // every share of this chunk is prepared
+                barrier.wait();  // every batch of this chunk is prepared
+                // (No worker takes a batch again before it passes the barrier below.)
+                if (w == 0) next_batch.store(0, std::memory_order_relaxed);
                 std::size_t pieces = 0;
-                for (const WorkerSlot& share_of : slots) pieces += share_of.prepared.size();
+                for (std::size_t b = 0; b < batch_count; ++b) pieces += batches[b].pieces.size();
+                const auto draw_chunk = [&](const RowSet& rows_of_worker) {
+                    for (std::size_t b = 0; b < batch_count; ++b)
+                        for (const PreparedPiece& piece : batches[b].pieces) raster.draw(piece, rows_of_worker);
+                };
                 if (workers > 1 && pieces <= balanced_pieces) {
                     // One band at a time: RowSet{band, band_count} holds band `band` alone.
                     for (int band; (band = next_band.fetch_add(1, std::memory_order_relaxed)) < band_count;)
