@@ -62,9 +62,13 @@ TEST_CASE("clearing rows writes the background and empty depth to exactly those 
 
 TEST_CASE("texr explain records the same pixel story for 1, 2 and 3 threads") {
     // The demo's floor (a 2-triangle chunk: drawn band by band, each band by whichever worker
-    // is free) and its torus (1152 triangles: fixed interleaved bands).
+    // is free), its torus (1152 quads, 2304 triangles: fixed interleaved bands) and the sky.
     const Scene scene = load_scene(testing::source_path("models/demo.scene"));
-    for (auto [x, y] : {std::pair{100, 560}, std::pair{180, 250}, std::pair{400, 20}}) {
+    struct Probe {
+        int x, y, object;  // object -1: the background
+    };
+    for (const Probe& probe : {Probe{100, 560, 0}, Probe{180, 250, 1}, Probe{400, 20, -1}}) {
+        const int x = probe.x, y = probe.y;
         CAPTURE(x);
         CAPTURE(y);
         RenderOptions options;
@@ -73,6 +77,8 @@ TEST_CASE("texr explain records the same pixel story for 1, 2 and 3 threads") {
         RenderStats stats;
         const Framebuffer reference = render(scene, options, stats);
         REQUIRE(reference.explanation);
+        CHECK(reference.explanation->covered == (probe.object >= 0));
+        if (probe.object >= 0) CHECK(reference.explanation->object == probe.object);
         for (int threads : {2, 3}) {
             options.threads = threads;
             const Framebuffer fb = render(scene, options, stats);

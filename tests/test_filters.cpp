@@ -5,11 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "texr/texture/ewa.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/reconstruct.h"
+#include "texr/texture/wrap.h"
 
 using namespace texr;
 
@@ -341,6 +343,18 @@ TEST_CASE("EWA with one derivative vector NaN treats it as degenerate: a finite 
     }
 }
 
+TEST_CASE("EWA at a NaN coordinate returns a finite colour for every wrap mode") {
+    const MipMap mip(std::make_shared<Image>(random_hdr(64, 64, 19)));
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (Wrap wrap : {Wrap::repeat, Wrap::mirror, Wrap::clamp, Wrap::border}) {
+        Sampler s;
+        s.wrap_u = s.wrap_v = wrap;
+        int texels = 0;
+        const Color4 e = sample_ewa(mip, s, nan, 0.4, {0.05, 0.01, -0.002, 0.01}, texels);
+        for (int c = 0; c < 4; ++c) CHECK(std::isfinite(e[c]));
+    }
+}
+
 TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1") {
     const MipMap mip(std::make_shared<Image>(random_hdr(16, 16, 31)));
     Sampler s;
@@ -400,25 +414,31 @@ TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the m
 namespace {
 
 // EWA at one level, from the definition in ewa.h, summed over every texel near the centre
-// (not a bounding box), with Q evaluated at each texel rather than stepped. Repeat wrap,
-// cell registration. d1, d2: the derivative vectors in this level's texels, already scaled.
-Color4 ewa_level_by_definition(const Image& level, double u, double v, double d1u, double d1v, double d2u, double d2v) {
+// (not a bounding box), with Q evaluated at each texel rather than stepped. Texel indices
+// go through wrap_index (checked against hand-worked values in test_wrap_and_reconstruct);
+// -1 is the border colour. d1, d2: the derivative vectors in this level's texels, scaled.
+Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
+                               double d2v) {
     const double a = d1v * d1v + d2v * d2v + 1.0, b = -2.0 * (d1u * d1v + d2u * d2v), c = d1u * d1u + d2u * d2u + 1.0;
     const double f = a * c - b * b / 4.0;
-    const double cs = u * level.width() - 0.5, ct = v * level.height() - 0.5;
-    const auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+    const bool node = s.registration == Registration::node;
+    const int w = level.width(), h = level.height();
+    const double cs = node ? u * (w - 1) : u * w - 0.5, ct = node ? v * (h - 1) : v * h - 0.5;
     Color4 sum(0.0f);
     double weight_sum = 0.0;
     const int reach = 200;  // beyond any ellipse the tests below make
     for (int j = int(ct) - reach; j <= int(ct) + reach; ++j)
         for (int i = int(cs) - reach; i <= int(cs) + reach; ++i) {
-            const double s = i - cs, t = j - ct;
-            const double r2 = (a * s * s + b * s * t + c * t * t) / f;
+            const double x = i - cs, y = j - ct;
+            const double r2 = (a * x * x + b * x * y + c * y * y) / f;
             if (!(r2 < 1.0)) continue;
-            // The weights are tabulated at r^2 = k / 127 and read at the entry below r^2.
+            // The filter tabulates its weights at r^2 = k / 127 and reads the entry at or below
+            // r^2 (a documented quantisation: the exact exp would differ by up to 2%, more than
+            // a wrong texel would show); so does this reference.
             const double tabulated_r2 = std::floor(std::max(r2, 0.0) * 127.0) / 127.0;
             const double weight = std::exp(-2.0 * tabulated_r2) - std::exp(-2.0);
-            sum += float(weight) * level.texel(wrap(i, level.width()), wrap(j, level.height()));
+            const int column = wrap_index(s.wrap_u, i, w, node), row = wrap_index(s.wrap_v, j, h, node);
+            sum += float(weight) * (column < 0 || row < 0 ? s.border : level.texel(column, row));
             weight_sum += weight;
         }
     return sum / float(weight_sum);
@@ -431,8 +451,9 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
     // minor axis stretched to major / max anisotropy, lambda = log2(minor), the axes scaled
     // by 0.7 and taken to each level's texels, the two levels blended by lambda's fraction.
     // Three textures: 8-bit power-of-two and 8-bit 48x40 (read through row addresses) and
-    // float (read through Image::texel). The last footprint, at max anisotropy 64, is wider
-    // than the filter's 128 tabulated columns.
+    // float (read through Image::texel); every wrap mode, both registrations, coordinates
+    // beyond [0, 1]. The last footprint, at max anisotropy 64, is wider than the 128 columns
+    // the filter keeps on the stack.
     std::mt19937_64 rng(29);
     std::vector<std::uint8_t> bytes(64 * 64 * 4), odd_bytes(48 * 40 * 4);
     for (auto& byte : bytes) byte = std::uint8_t(rng() % 256);
@@ -444,37 +465,53 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
         double d1u, d1v, d2u, d2v;  // base texels
         float max_anisotropy;
     };
-    for (const Footprint& fp : {Footprint{0.6, 0.2, -0.1, 0.5, 16}, Footprint{5.0, 2.0, -0.3, 1.1, 16}, Footprint{1.5, 9.0, 2.1, -0.2, 16},
-                                Footprint{30.0, 0.0, 0.0, 0.2, 16}, Footprint{0.0, 3.2, 2.3, 0.0, 16}, Footprint{240.0, 12.0, 0.0, 1.0, 64}}) {
-        for (const MipMap& mip : textures) {
-            const double w = mip.base().width(), h = mip.base().height();
-            Sampler s;
-            s.max_anisotropy = fp.max_anisotropy;
-            double d1u = fp.d1u, d1v = fp.d1v, d2u = fp.d2u, d2v = fp.d2v;
-            double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
-            if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
-            if (minor * fp.max_anisotropy < major) {
-                const double stretch = major / fp.max_anisotropy / minor;
-                d2u *= stretch, d2v *= stretch, minor *= stretch;
-            }
-            const double lambda = std::max(0.0, std::log2(minor));
-            const int l0 = int(lambda);
-            const auto at = [&](int l, double u, double v) {
-                const Image& level = mip.level(l);
-                const double kx = 0.7 * level.width() / w, ky = 0.7 * level.height() / h;
-                return ewa_level_by_definition(level, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky);
-            };
-            for (int k = 0; k < 4; ++k) {
-                const double u = double(rng() % 1000) / 1000.0, v = double(rng() % 1000) / 1000.0;
-                CAPTURE(u);
-                CAPTURE(v);
-                CAPTURE(lambda);
-                const Color4 a = at(l0, u, v), b = at(l0 + 1, u, v);
-                const Color4 expected = a + float(lambda - l0) * (b - a);
-                int texels = 0;
-                const Color4 got = sample_ewa(mip, s, u, v, {fp.d1u / w, fp.d1v / h, fp.d2u / w, fp.d2v / h}, texels);
-                for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(2e-3));
-            }
-        }
-    }
+    const Footprint footprints[] = {{0.6, 0.2, -0.1, 0.5, 16}, {5.0, 2.0, -0.3, 1.1, 16}, {1.5, 9.0, 2.1, -0.2, 16},
+                                    {30.0, 0.0, 0.0, 0.2, 16}, {0.0, 3.2, 2.3, 0.0, 16},  {240.0, 12.0, 0.0, 1.0, 64}};
+    const std::pair<Wrap, Wrap> wraps[] = {{Wrap::repeat, Wrap::repeat}, {Wrap::mirror, Wrap::clamp}, {Wrap::border, Wrap::mirror},
+                                           {Wrap::clamp, Wrap::border}};
+    for (const Footprint& fp : footprints)
+        for (const MipMap& mip : textures)
+            for (const auto& [wrap_u, wrap_v] : wraps)
+                for (Registration registration : {Registration::cell, Registration::node}) {
+                    const double w = mip.base().width(), h = mip.base().height();
+                    Sampler s;
+                    s.max_anisotropy = fp.max_anisotropy;
+                    s.wrap_u = wrap_u, s.wrap_v = wrap_v, s.registration = registration;
+                    s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
+                    double d1u = fp.d1u, d1v = fp.d1v, d2u = fp.d2u, d2v = fp.d2v;
+                    double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
+                    if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+                    if (minor * fp.max_anisotropy < major) {
+                        const double stretch = major / fp.max_anisotropy / minor;
+                        d2u *= stretch, d2v *= stretch, minor *= stretch;
+                    }
+                    const double lambda = std::max(0.0, std::log2(minor));
+                    const int l0 = int(lambda);
+                    const auto at = [&](int l, double u, double v) {
+                        const Image& level = mip.level(l);
+                        const double kx = 0.7 * level.width() / w, ky = 0.7 * level.height() / h;
+                        return ewa_level_by_definition(level, s, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky);
+                    };
+                    for (int k = 0; k < 2; ++k) {
+                        // Coordinates in [-0.5, 1.5); in [0, 1) for node registration with repeat,
+                        // whose seam node is texel n - 1 of one period and texel 0 of the next:
+                        // the filter reads it as the former in every period (it removes whole
+                        // periods first), this reference only in the first.
+                        const bool seam = registration == Registration::node && (wrap_u == Wrap::repeat || wrap_v == Wrap::repeat);
+                        const double span = seam ? 1.0 : 2.0, offset = seam ? 0.0 : -0.5;
+                        const double u = double(rng() % 1000) / 1000.0 * span + offset, v = double(rng() % 1000) / 1000.0 * span + offset;
+                        CAPTURE(u);
+                        CAPTURE(v);
+                        CAPTURE(lambda);
+                        CAPTURE(int(wrap_u));
+                        CAPTURE(int(wrap_v));
+                        CAPTURE(int(registration));
+                        CAPTURE(w);
+                        const Color4 a = at(l0, u, v), b = at(l0 + 1, u, v);
+                        const Color4 expected = a + float(lambda - l0) * (b - a);
+                        int texels = 0;
+                        const Color4 got = sample_ewa(mip, s, u, v, {fp.d1u / w, fp.d1v / h, fp.d2u / w, fp.d2v / h}, texels);
+                        for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(2e-3));
+                    }
+                }
 }

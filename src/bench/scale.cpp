@@ -218,8 +218,9 @@ void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows
     write_text_file(o.out + "/scale.svg", scatter_svg(axes, points));
 }
 
-// Issue 4's targets: the largest terrain (1M triangles) at >= 10 M triangles/s on 2 threads;
-// the largest texture (8192^2) with its mip levels in at most 1.25x the data's memory.
+// Issue 4's targets: the largest terrain (1M triangles) at >= 10 M triangles/s on 2 threads
+// (not met when measured on another number of threads: --threads 2 measures it); the
+// largest texture (8192^2) with its mip levels in at most 1.25x the data's memory.
 std::vector<Target> scale_targets(const std::vector<ScaleRow>& rows) {
     const ScaleRow* terrain = nullptr;
     const ScaleRow* texture = nullptr;
@@ -228,10 +229,12 @@ std::vector<Target> scale_targets(const std::vector<ScaleRow>& rows) {
         if (r.dimension == "texture" && (!texture || r.size > texture->size)) texture = &r;
     }
     std::vector<Target> targets;
-    if (terrain)
+    if (terrain) {
         targets.push_back(at_least("scale", "1M-triangle terrain: >= 10 M triangles/s on 2 threads",
                                    fixed(terrain->size, 0) + " triangles, " + conditions_of(terrain->width, terrain->height, terrain->threads),
                                    terrain->rate, 10.0, "M triangles/s", 2));
+        if (terrain->threads != 2) targets.back().met = false, targets.back().measured += " (not on 2 threads)";
+    }
     if (texture)
         targets.push_back(at_most("scale", "8192^2 texture: peak memory <= 1.25x texels + mip levels + frame",
                                   std::to_string(int(std::lround(std::sqrt(texture->size)))) + "^2 texture, " +

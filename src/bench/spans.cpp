@@ -98,7 +98,8 @@ void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows)
 }
 
 // Issue 4's targets, per scene: the adaptive mode keeps its error bound (1/64 texel) and
-// takes at most 1.1x the fastest mode's time.
+// takes at most 1.1x the fastest mode's time. The issue says "the fastest mode": that
+// includes affine, which is fast because it is wrong; the goal's text says so.
 std::vector<Target> spans_targets(const BenchOptions& o, const std::vector<SpanRow>& rows) {
     std::vector<Target> targets;
     const double tolerance = RenderOptions{}.span_tolerance;
@@ -114,7 +115,7 @@ std::vector<Target> spans_targets(const BenchOptions& o, const std::vector<SpanR
         const std::string conditions = conditions_of(o.width, o.height, o.threads) + ", bilinear";
         targets.push_back(at_most("spans", scene + ", adaptive: max error <= 1/64 texel", conditions, adaptive->max_error,
                                   tolerance, "texel", -3));
-        targets.push_back(at_most("spans", scene + ", adaptive: frame time <= 1.1x the fastest mode's", conditions,
+        targets.push_back(at_most("spans", scene + ", adaptive: frame time <= 1.1x the fastest mode's (affine included)", conditions,
                                   adaptive->frame_ms / fastest->frame_ms, 1.1,
                                   "x " + fastest->mode + " (" + fixed(adaptive->frame_ms, 2) + " / " + fixed(fastest->frame_ms, 2) + " ms)", 2));
     }

@@ -36,14 +36,17 @@ Target at_most(std::string benchmark, std::string goal, std::string conditions, 
     return checked(std::move(benchmark), std::move(goal), std::move(conditions), value, unit, digits, value <= threshold);
 }
 
+int targets_met(const std::vector<Target>& targets) {
+    int met = 0;
+    for (const Target& t : targets) met += t.met ? 1 : 0;
+    return met;
+}
+
 std::string targets_markdown(const std::vector<Target>& targets) {
     std::string md = "| benchmark | target | measured in this run | conditions | met |\n|---|---|---:|---|---|\n";
-    int met = 0;
-    for (const Target& t : targets) {
+    for (const Target& t : targets)
         md += "| " + t.benchmark + " | " + t.goal + " | " + t.measured + " | " + t.conditions + " | " + (t.met ? "yes" : "no") + " |\n";
-        met += t.met ? 1 : 0;
-    }
-    md += "\n" + std::to_string(met) + " of " + std::to_string(targets.size()) +
+    md += "\n" + std::to_string(targets_met(targets)) + " of " + std::to_string(targets.size()) +
           " targets met. Times depend on the machine and on what else runs on it; the targets are the issues' "
           "(1024x768 frames; filters on 1 thread, threads on 2).\n";
     return md;

@@ -24,9 +24,11 @@
 namespace texr {
 namespace {
 
-// The rows one worker thread owns: bands of band_rows rows, dealt round-robin. Every pixel
-// belongs to exactly one worker, and each worker draws the triangles in submission order,
-// so the frame is the same bytes for any number of threads.
+// Rows a worker draws: bands of band_rows rows, every count-th band from band `index` on.
+// RowSet{w, workers} is worker w's fixed share, dealt round-robin; RowSet{b, band_count}
+// is band b alone (a band taken by whichever worker is free). Either way each pixel is
+// drawn by one worker, triangles in submission order, so the frame is the same bytes for
+// any number of threads.
 struct RowSet {
     static constexpr int band_rows = 8;
     int index = 0, count = 1;

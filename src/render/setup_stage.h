@@ -76,8 +76,8 @@ struct PreparedPiece {
     bool clipped;
 };
 
-// Stage one, once per triangle (each worker takes a share): clipping, viewport, snapping,
-// culling and triangle setup (DESIGN.md, "triangle setup").
+// Stage one, once per triangle (workers take batches of triangles as they become free):
+// clipping, viewport, snapping, culling and triangle setup (DESIGN.md, "triangle setup").
 class SetupStage {
 public:
     SetupStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, const Framebuffer& fb,

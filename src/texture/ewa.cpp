@@ -56,12 +56,18 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     const double half_s = std::sqrt(c / det), half_t = std::sqrt(a / det);
 
     // The centre on this level's lattice (cell: texel centres at integers), with whole periods
-    // removed so it stays small for any u (repeat, mirror); for clamp and border it is kept
-    // within the box's reach of the image, which reads the same texels.
+    // removed so it stays small for any u (repeat, mirror); for clamp and border, a centre
+    // beyond the box's reach of the image is moved towards it by whole texels, to just
+    // outside that reach: every texel the ellipse covers still reads the edge (or the border),
+    // with the same weights, as the ellipse keeps its place on the texel lattice.
     const auto centre = [&](double t, int n, double half, Wrap wrap) {
         const double x = node ? t * (n - 1) : t * n - 0.5;
         if (wrap == Wrap::repeat || wrap == Wrap::mirror) return reduce_lattice(wrap, x, n, node);
-        return std::clamp(x, -half - 2.0, double(n) + half + 2.0);
+        if (std::isnan(x)) return 0.0;  // (as reduce_lattice reads NaN)
+        const double below = -half - 2.0, above = double(n) + half + 2.0;
+        if (x < below) return x + std::ceil(below - x);
+        if (x > above) return x - std::ceil(x - above);
+        return x;
     };
     const double cs = centre(u, w, half_s, s.wrap_u), ct = centre(v, h, half_t, s.wrap_v);
     // The box is a few hundred texels at most (max_anisotropy <= 64), so the floors fit in int.

@@ -1,5 +1,6 @@
 // The speed, memory and quality targets of the issues, checked against a bench run's own
-// numbers: texr bench writes every checked target to targets.md (README, "Targets").
+// numbers: texr bench prints every checked target and writes them to targets.md (README,
+// "Benchmarks").
 #pragma once
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@ Target at_least(std::string benchmark, std::string goal, std::string conditions,
 Target at_most(std::string benchmark, std::string goal, std::string conditions, double value, double threshold,
                const std::string& unit, int digits);
 
+int targets_met(const std::vector<Target>& targets);
 // A Markdown table of the targets and a line counting those met.
 std::string targets_markdown(const std::vector<Target>& targets);
 
