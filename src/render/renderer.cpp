@@ -183,9 +183,14 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     std::vector<WorkerSlot> slots(static_cast<std::size_t>(workers));
     Barrier barrier(workers);
     const int band_count = (height + RowSet::band_rows - 1) / RowSet::band_rows;
-    std::atomic<int> next_band{0};  // a balanced chunk's next band to draw
-    std::vector<PreparedBatch> batches(chunk_triangles / setup_batch);
-    std::atomic<std::size_t> next_batch{0};  // the chunk's next batch of triangles to set up
+    // Chunks alternate between two sets of batches and counters, so that one barrier per chunk
+    // suffices: a worker sets up chunk c + 1 (into the other set) while others still draw
+    // chunk c, and draws chunk c + 1 only when every worker has set it up, which each does
+    // after drawing chunk c.
+    std::vector<PreparedBatch> batches[2] = {std::vector<PreparedBatch>(chunk_triangles / setup_batch),
+                                             std::vector<PreparedBatch>(chunk_triangles / setup_batch)};
+    std::atomic<std::size_t> next_batch[2] = {0, 0};  // the chunk's next batch of triangles to set up
+    std::atomic<int> next_band[2] = {0, 0};           // a balanced chunk's next band to draw
     double vertex_seconds = 0.0;
     const auto start = Clock::now();
     auto work = [&](int w) {
@@ -203,35 +208,38 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         WorkerSlot& slot = slots[std::size_t(w)];
         SetupStage setup(scene, needs, options, fb, slot.counts);
         RasterStage raster(scene, needs, options, fb, slot.counts);
+        std::size_t chunk = 0;
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const std::size_t n = scene.meshes[std::size_t(scene.objects[i].mesh)].triangles.size();
-            for (std::size_t first = 0; first < n; first += chunk_triangles) {
+            for (std::size_t first = 0; first < n; first += chunk_triangles, ++chunk) {
                 const std::size_t last = std::min(n, first + chunk_triangles);
-                const std::size_t batch_count = (last - first + setup_batch - 1) / setup_batch;
-                for (std::size_t b; (b = next_batch.fetch_add(1, std::memory_order_relaxed)) < batch_count;) {
-                    std::vector<PreparedPiece>& out = batches[b].pieces;
+                const std::size_t set = chunk % 2, batch_count = (last - first + setup_batch - 1) / setup_batch;
+                std::vector<PreparedBatch>& chunk_batches = batches[set];
+                for (std::size_t b; (b = next_batch[set].fetch_add(1, std::memory_order_relaxed)) < batch_count;) {
+                    std::vector<PreparedPiece>& out = chunk_batches[b].pieces;
                     out.clear();
                     setup.prepare(int(i), transformed[i], first + b * setup_batch, std::min(last, first + (b + 1) * setup_batch), out);
                 }
-                // (Every worker has left the previous chunk's bands: it passed the barrier below.)
-                if (w == 0) next_band.store(0, std::memory_order_relaxed);
-                barrier.wait();  // every batch of this chunk is prepared
-                // (No worker takes a batch again before it passes the barrier below.)
-                if (w == 0) next_batch.store(0, std::memory_order_relaxed);
+                barrier.wait();  // every batch of this chunk is prepared, and the previous chunk drawn
+                if (w == 0) {
+                    // Nobody takes from these two counters again before the next barrier: this
+                    // chunk's batches are all taken, and the previous chunk's bands all drawn.
+                    next_batch[set].store(0, std::memory_order_relaxed);
+                    next_band[1 - set].store(0, std::memory_order_relaxed);
+                }
                 std::size_t pieces = 0;
-                for (std::size_t b = 0; b < batch_count; ++b) pieces += batches[b].pieces.size();
+                for (std::size_t b = 0; b < batch_count; ++b) pieces += chunk_batches[b].pieces.size();
                 const auto draw_chunk = [&](const RowSet& rows_of_worker) {
                     for (std::size_t b = 0; b < batch_count; ++b)
-                        for (const PreparedPiece& piece : batches[b].pieces) raster.draw(piece, rows_of_worker);
+                        for (const PreparedPiece& piece : chunk_batches[b].pieces) raster.draw(piece, rows_of_worker);
                 };
                 if (workers > 1 && pieces <= balanced_pieces) {
                     // One band at a time: RowSet{band, band_count} holds band `band` alone.
-                    for (int band; (band = next_band.fetch_add(1, std::memory_order_relaxed)) < band_count;)
+                    for (int band; (band = next_band[set].fetch_add(1, std::memory_order_relaxed)) < band_count;)
                         draw_chunk(RowSet{band, band_count});
                 } else {
                     draw_chunk(RowSet{w, workers});
                 }
-                barrier.wait();  // every worker is done with the pieces
             }
         }
     };
