@@ -2,8 +2,9 @@
 # texr's one entry point for building, the demo and the tests.
 #   ./build.sh demo   install what is missing, build (Release), render models/demo.scene to out/demo.png
 #   ./build.sh test   install what is missing, build (Release) and run every test; then the
-#                     same tests built with AddressSanitizer + UBSan, then a short libFuzzer
-#                     run of the scene parser and the OBJ path (TEXR_FUZZ_SECONDS, default 20)
+#                     same tests built with AddressSanitizer + UBSan, the multi-threaded
+#                     tests built with ThreadSanitizer, then a short libFuzzer run of the
+#                     scene parser and the OBJ path (TEXR_FUZZ_SECONDS, default 20)
 #   ./build.sh bench  install what is missing, build (Release), run texr bench
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -40,6 +41,15 @@ sanitized_tests() {
     ctest --test-dir build-asan --output-on-failure -j "$(nproc)"
 }
 
+# The multi-threaded tests under ThreadSanitizer: workers share counters, batches and the
+# frame, and a data race would make frames depend on timing.
+threaded_tests() {
+    echo "== the multi-threaded tests again, under ThreadSanitizer"
+    cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_TSAN=ON >/dev/null
+    cmake --build build-tsan -j "$(nproc)" --target texr_tests
+    TSAN_OPTIONS="halt_on_error=1" ./build-tsan/texr_tests -tc='frames are byte-identical*,texr explain records*,*threads*'
+}
+
 fuzz() {
     local seconds="${TEXR_FUZZ_SECONDS:-20}"
     echo "== fuzzing the scene parser and the OBJ path, ${seconds} s each"
@@ -68,6 +78,7 @@ case "${1:-}" in
         build
         ctest --test-dir build --output-on-failure -j "$(nproc)"
         sanitized_tests
+        threaded_tests
         fuzz
         ;;
     bench)
