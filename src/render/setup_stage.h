@@ -12,6 +12,7 @@
 #include "scanline.h"
 #include "texr/raster/clip.h"
 #include "texr/render/renderer.h"
+#include "texr/texture/wrap.h"
 
 namespace texr {
 namespace {
@@ -25,7 +26,8 @@ void rebase(std::array<double, 3>& t, Wrap wrap) {
     const double period = wrap == Wrap::repeat ? 1.0 : 2.0;
     const double low = std::min({t[0], t[1], t[2]});
     if (!(std::fabs(low) < 1e15)) return;  // beyond that no fraction is left to keep
-    const double shift = period * std::floor(low * (1.0 / period));  // (1/period is exact: 1 or 1/2)
+    // (1/period is exact: 1 or 1/2; |low| < 1e15 is within fast_floor's range)
+    const double shift = period * fast_floor(low * (1.0 / period));
     for (double& x : t) x -= shift;
 }
 
@@ -140,7 +142,7 @@ private:
         // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
         // front-facing triangle has negative signed area there.
         if (cull_back && twice_signed_area(snapped) > 0) { ++counters_.triangles_culled; return false; }
-        if (off_screen(snapped)) { ++counters_.triangles_culled; return false; }
+        if (off_screen(s.edges)) { ++counters_.triangles_culled; return false; }
         ++counters_.triangles_set_up;
         row_range(s.edges, height_, s.first_row, s.last_row);
 
@@ -164,7 +166,7 @@ private:
                 s.u_affine = s.v_affine = Plane{0.0, 0.0, 0.0};  // copied into SpanTexturing, never used
             }
         }
-        for (int axis = 0; axis < 3; ++axis) {
+        for (int axis = 0; axis < 3 && (needs & (need_normal | need_color | need_world_position)); ++axis) {
             if (needs & need_normal)
                 s.normal[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return v.normal[i][axis]; }), inv_w);
             if (needs & need_color)
@@ -175,12 +177,11 @@ private:
         return true;
     }
 
-    bool off_screen(const std::array<SnappedVertex, 3>& v) const {
+    // The bounding box of the snapped vertices (triangle_edges found it) misses every pixel centre.
+    bool off_screen(const TriangleEdges& e) const {
         const std::int64_t half = subpixel_scale / 2;  // pixel centres are at 256 k + 128
-        const std::int64_t min_x = std::min({v[0].x, v[1].x, v[2].x}), max_x = std::max({v[0].x, v[1].x, v[2].x});
-        const std::int64_t min_y = std::min({v[0].y, v[1].y, v[2].y}), max_y = std::max({v[0].y, v[1].y, v[2].y});
-        return max_x < half || max_y < half || min_x > (width_ - 1) * subpixel_scale + half ||
-               min_y > (height_ - 1) * subpixel_scale + half;
+        return e.max_x < half || e.max_y < half || e.min_x > (width_ - 1) * subpixel_scale + half ||
+               e.min_y > (height_ - 1) * subpixel_scale + half;
     }
 
     const Scene& scene_;
