@@ -57,14 +57,19 @@ void clip_against(int plane, const GuardBand& band, const ClipPolygon& in, ClipP
 
 }  // namespace
 
+int clip_outcode(const glm::dvec4& p, const GuardBand& band) {
+    int mask = 0;
+    for (int k = 0; k < plane_count; ++k)
+        if (!(plane_distance(k, p, band) >= 0.0)) mask |= 1 << k;
+    return mask;
+}
+
 ClipResult clip_triangle(const glm::dvec4& a, const glm::dvec4& b, const glm::dvec4& c,
                          const GuardBand& band, ClipPolygon& polygon) {
     const glm::dvec4 p[3] = {a, b, c};
     int outside_mask_all = (1 << plane_count) - 1, outside_mask_any = 0;
     for (const auto& v : p) {
-        int mask = 0;
-        for (int k = 0; k < plane_count; ++k)
-            if (!(plane_distance(k, v, band) >= 0.0)) mask |= 1 << k;
+        const int mask = clip_outcode(v, band);
         outside_mask_all &= mask;
         outside_mask_any |= mask;
     }

@@ -161,6 +161,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     std::vector<Needs> needs;
     for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
     const glm::dmat4 view_projection = projection_matrix(scene.camera, double(width) / double(height)) * view_matrix(scene.camera);
+    const GuardBand band = guard_band_for(width, height);
 
     // Room for every object's transformed vertices, and only for what its materials need.
     std::vector<TransformedMesh> transformed(scene.objects.size());
@@ -169,6 +170,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         Needs mesh_needs = 0;
         for (int m : mesh.triangle_material) mesh_needs |= needs[std::size_t(m)];
         transformed[i].clip.resize(mesh.vertices.size());
+        transformed[i].code.resize(mesh.vertices.size());
         if (mesh_needs & need_world_position) transformed[i].world.resize(mesh.vertices.size());
         if (mesh_needs & need_normal) transformed[i].normal.resize(mesh.vertices.size());
     }
@@ -200,7 +202,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         const auto share = [&](std::size_t first, std::size_t last, int k) { return first + (last - first) * std::size_t(k) / std::size_t(workers); };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const Mesh& mesh = scene.meshes[std::size_t(scene.objects[i].mesh)];
-            transform(mesh, scene.objects[i], view_projection, share(0, mesh.vertices.size(), w),
+            transform(mesh, scene.objects[i], view_projection, band, share(0, mesh.vertices.size(), w),
                       share(0, mesh.vertices.size(), w + 1), transformed[i]);
         }
         barrier.wait();

@@ -31,28 +31,33 @@ void rebase(std::array<double, 3>& t, Wrap wrap) {
     for (double& x : t) x -= shift;
 }
 
+bool finite(const glm::dvec4& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+}
+
 // Object-space vertex data carried to clip space, per object.
 struct TransformedMesh {
     std::vector<glm::dvec4> clip;
+    // Per vertex: clip_outcode's bits, and not_finite for a NaN or infinite coordinate.
+    std::vector<std::uint8_t> code;
     std::vector<glm::dvec3> world, normal;  // filled only when a material needs them
+    static constexpr std::uint8_t not_finite = 1 << 7;
 };
 
-// The vertex stage of one object for vertices [first, last): object -> world -> clip, and
-// only what the materials need. `v` is already sized.
-void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_projection, std::size_t first,
-               std::size_t last, TransformedMesh& v) {
+// The vertex stage of one object for vertices [first, last): object -> world -> clip (with
+// each vertex's clip code for the frame's guard band), and only what the materials need.
+// `v` is already sized.
+void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_projection, const GuardBand& band,
+               std::size_t first, std::size_t last, TransformedMesh& v) {
     const glm::dmat4 to_clip = view_projection * object.transform;
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
     for (std::size_t i = first; i < last; ++i) {
         const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
         v.clip[i] = to_clip * p;
+        v.code[i] = std::uint8_t(clip_outcode(v.clip[i], band) | (finite(v.clip[i]) ? 0 : TransformedMesh::not_finite));
         if (!v.world.empty()) v.world[i] = glm::dvec3(object.transform * p);
         if (!v.normal.empty()) v.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
     }
-}
-
-bool finite(const glm::dvec4& p) {
-    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
 }
 
 // A vertex attribute at the corners of a piece: at each corner, the sum of the triangle's
@@ -103,7 +108,19 @@ private:
         const glm::dvec4& a = v.clip[tri[0]];
         const glm::dvec4& b = v.clip[tri[1]];
         const glm::dvec4& c = v.clip[tri[2]];
-        if (!finite(a) || !finite(b) || !finite(c)) { ++counters_.triangles_dropped; return; }
+        // The vertices' codes decide most triangles: what clip_triangle would decide first.
+        const int any = v.code[tri[0]] | v.code[tri[1]] | v.code[tri[2]];
+        if (any & TransformedMesh::not_finite) { ++counters_.triangles_dropped; return; }
+        if (v.code[tri[0]] & v.code[tri[1]] & v.code[tri[2]]) { ++counters_.triangles_culled; return; }  // beyond one plane
+        if (any == 0) {  // inside every plane: the triangle itself is the one piece
+            PreparedPiece& piece = out.emplace_back();
+            piece.object = object_index, piece.material = mesh.triangle_material[t], piece.triangle = t;
+            piece.clipped = false;
+            if (!prepare_piece(mesh, v, tri, {ClipVertex{a, {1.0, 0.0, 0.0}}, ClipVertex{b, {0.0, 1.0, 0.0}}, ClipVertex{c, {0.0, 0.0, 1.0}}},
+                               object.cull_back, piece))
+                out.pop_back();
+            return;
+        }
         const ClipResult result = clip_triangle(a, b, c, band_, polygon_);
         if (result == ClipResult::outside) { ++counters_.triangles_culled; return; }
         if (result == ClipResult::clipped) ++counters_.triangles_clipped;

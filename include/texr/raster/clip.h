@@ -34,6 +34,12 @@ GuardBand guard_band_for(int width, int height);
 
 enum class ClipResult { inside, clipped, outside };
 
+// Bit k set: p is outside clipping plane k (near, far, left, right, bottom, top), NaN
+// included. A triangle is inside when its vertices' codes OR to 0 and outside when they AND
+// to non-zero: what clip_triangle decides first, so a mesh can work the codes out once per
+// vertex instead of once per triangle corner.
+int clip_outcode(const glm::dvec4& p, const GuardBand& band);
+
 // Clips triangle (a, b, c) against the six planes. `inside`: polygon is the triangle itself;
 // `clipped`: polygon holds the clipped convex polygon (3..9 vertices); `outside`: nothing left.
 ClipResult clip_triangle(const glm::dvec4& a, const glm::dvec4& b, const glm::dvec4& c,
