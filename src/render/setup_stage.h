@@ -63,14 +63,14 @@ void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_pr
 // A vertex attribute at the corners of a piece: at each corner, the sum of the triangle's
 // values with the corner's weights. An unclipped piece is the triangle: its values as they
 // are (the weights are 1, 0, 0 and so on; the sum would also have turned -0 into +0, and an
-// infinite value at one corner into NaN at all three).
+// infinite value at one corner into NaN at all three). `weights` is read only when clipped.
 template <typename Get>
-std::array<double, 3> vertex_values(const std::array<glm::dvec3, 3>& weights, const std::array<std::uint32_t, 3>& tri,
+std::array<double, 3> vertex_values(const std::array<const glm::dvec3*, 3>& weights, const std::array<std::uint32_t, 3>& tri,
                                     bool clipped, Get get) {
     if (!clipped) return {double(get(tri[0])), double(get(tri[1])), double(get(tri[2]))};
     std::array<double, 3> out{};
     for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j) out[std::size_t(k)] += weights[std::size_t(k)][j] * double(get(tri[std::size_t(j)]));
+        for (int j = 0; j < 3; ++j) out[std::size_t(k)] += (*weights[std::size_t(k)])[j] * double(get(tri[std::size_t(j)]));
     return out;
 }
 
@@ -112,39 +112,39 @@ private:
         const int any = v.code[tri[0]] | v.code[tri[1]] | v.code[tri[2]];
         if (any & TransformedMesh::not_finite) { ++counters_.triangles_dropped; return; }
         if (v.code[tri[0]] & v.code[tri[1]] & v.code[tri[2]]) { ++counters_.triangles_culled; return; }  // beyond one plane
-        if (any == 0) {  // inside every plane: the triangle itself is the one piece
+        // A piece from its corners' clip-space positions and (when clipped) their weights on
+        // the triangle's vertices; built in place (a piece is some 500 bytes) and kept if it
+        // survives culling.
+        const auto add_piece = [&](const std::array<const glm::dvec4*, 3>& position, const std::array<const glm::dvec3*, 3>& weights,
+                                   bool clipped) {
             PreparedPiece& piece = out.emplace_back();
             piece.object = object_index, piece.material = mesh.triangle_material[t], piece.triangle = t;
-            piece.clipped = false;
-            if (!prepare_piece(mesh, v, tri, {ClipVertex{a, {1.0, 0.0, 0.0}}, ClipVertex{b, {0.0, 1.0, 0.0}}, ClipVertex{c, {0.0, 0.0, 1.0}}},
-                               object.cull_back, piece))
-                out.pop_back();
+            piece.clipped = clipped;
+            if (!prepare_piece(mesh, v, tri, position, weights, object.cull_back, piece)) out.pop_back();
+        };
+        if (any == 0) {  // inside every plane: the triangle itself is the one piece
+            add_piece({&a, &b, &c}, {}, false);
             return;
         }
         const ClipResult result = clip_triangle(a, b, c, band_, polygon_);
         if (result == ClipResult::outside) { ++counters_.triangles_culled; return; }
         if (result == ClipResult::clipped) ++counters_.triangles_clipped;
         // The clipped polygon is convex: a fan from its first vertex.
-        for (int i = 1; i + 1 < polygon_.count; ++i) {
-            // Built in place (a piece is some 500 bytes): kept if it survives culling.
-            PreparedPiece& piece = out.emplace_back();
-            piece.object = object_index, piece.material = mesh.triangle_material[t], piece.triangle = t;
-            piece.clipped = result == ClipResult::clipped;
-            if (!prepare_piece(mesh, v, tri, {polygon_.vertices[0], polygon_.vertices[std::size_t(i)], polygon_.vertices[std::size_t(i + 1)]},
-                               object.cull_back, piece))
-                out.pop_back();
-        }
+        const auto& corner = polygon_.vertices;
+        for (std::size_t i = 1; i + 1 < std::size_t(polygon_.count); ++i)
+            add_piece({&corner[0].position, &corner[i].position, &corner[i + 1].position},
+                      {&corner[0].weights, &corner[i].weights, &corner[i + 1].weights}, result == ClipResult::clipped);
     }
 
     bool prepare_piece(const Mesh& mesh, const TransformedMesh& v, const std::array<std::uint32_t, 3>& tri,
-                       const std::array<ClipVertex, 3>& corners, bool cull_back, PreparedPiece& piece) {
+                       const std::array<const glm::dvec4*, 3>& position, const std::array<const glm::dvec3*, 3>& weights,
+                       bool cull_back, PreparedPiece& piece) {
         // Viewport: NDC -> pixels (row 0 at the top), snapped to 1/256 pixel.
         std::array<SnappedVertex, 3> snapped;
         std::array<glm::dvec2, 3> screen;
         std::array<double, 3> inv_w, depth;
-        std::array<glm::dvec3, 3> weights;
         for (int k = 0; k < 3; ++k) {
-            const glm::dvec4& p = corners[std::size_t(k)].position;
+            const glm::dvec4& p = *position[std::size_t(k)];
             inv_w[std::size_t(k)] = 1.0 / p.w;
             const double x = (p.x * inv_w[std::size_t(k)] * 0.5 + 0.5) * width_;
             const double y = (0.5 - p.y * inv_w[std::size_t(k)] * 0.5) * height_;
@@ -152,7 +152,6 @@ private:
             constexpr double pixels_per_step = 1.0 / subpixel_scale;  // exact: a power of two
             screen[std::size_t(k)] = {double(snapped[std::size_t(k)].x) * pixels_per_step, double(snapped[std::size_t(k)].y) * pixels_per_step};
             depth[std::size_t(k)] = p.z * inv_w[std::size_t(k)] * 0.5 + 0.5;
-            weights[std::size_t(k)] = corners[std::size_t(k)].weights;
         }
         TriangleSetup& s = piece.s;
         if (!triangle_edges(snapped, s.edges)) { ++counters_.triangles_dropped; return false; }
