@@ -4,11 +4,14 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <optional>
 
 #include <glm/glm.hpp>
 
 #include "helpers.h"
+#include "texr/raster/clip.h"
 #include "texr/render/renderer.h"
 
 using namespace texr;
@@ -145,4 +148,40 @@ TEST_CASE("clipping: nothing from behind the camera is drawn") {
 TEST_CASE("clipping: perspective-correct colours on a plane seen at a grazing angle") {
     const std::array<Vertex, 3> v = {vertex(-50, -0.3, -0.2, {1, 0, 0}), vertex(50, -0.3, -0.2, {0, 1, 0}), vertex(0, -0.3, -80, {0, 0, 1})};
     check_matches_ray_caster(v, 500);
+}
+
+TEST_CASE("clipping: a triangle's vertex codes decide inside and outside as clip_triangle does") {
+    // clip_outcode bit k: outside plane k. The renderer works the codes out once per vertex and
+    // decides a triangle from them: inside when they OR to 0, outside when they AND to non-zero.
+    // Checked here against clip_triangle itself, on vertices inside, outside, exactly on a
+    // plane (distance 0 is inside), and NaN or infinite.
+    const GuardBand band{2.0, 3.0};
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<glm::dvec4> points = {
+        {0.0, 0.0, 0.0, 1.0},  {1.9, -2.9, 0.5, 1.0}, {2.0, 3.0, 1.0, 1.0},   // inside; on left/top and far planes
+        {-2.0, -3.0, -1.0, 1.0},                                                // on right, bottom, near
+        {2.5, 0.0, 0.0, 1.0},  {-2.5, 0.0, 0.0, 1.0}, {0.0, 3.5, 0.0, 1.0}, {0.0, -3.5, 0.0, 1.0},
+        {0.0, 0.0, 1.5, 1.0},  {0.0, 0.0, -1.5, 1.0}, {0.0, 0.0, 0.0, -1.0},  // beyond one plane; behind the camera
+        {nan, 0.0, 0.0, 1.0},  {inf, 0.0, 0.0, 1.0},  {0.0, 0.0, 0.0, inf}};
+    // Hand-worked codes (bits: near, far, left, right, bottom, top).
+    CHECK(clip_outcode(points[0], band) == 0);
+    CHECK(clip_outcode(points[2], band) == 0);  // on the right and top planes: inside
+    CHECK(clip_outcode(points[3], band) == 0);  // on the left, bottom and near planes: inside
+    CHECK(clip_outcode(points[4], band) == 1 << 3);
+    CHECK(clip_outcode(points[5], band) == 1 << 2);
+    CHECK(clip_outcode(points[6], band) == 1 << 5);
+    CHECK(clip_outcode(points[7], band) == 1 << 4);
+    CHECK(clip_outcode(points[8], band) == 1 << 1);
+    CHECK(clip_outcode(points[9], band) == 1 << 0);
+    CHECK(clip_outcode(points[11], band) == ((1 << 2) | (1 << 3)));  // x NaN: outside the planes that read x
+    for (const glm::dvec4& a : points)
+        for (const glm::dvec4& b : points)
+            for (const glm::dvec4& c : points) {
+                const int ca = clip_outcode(a, band), cb = clip_outcode(b, band), cc = clip_outcode(c, band);
+                ClipPolygon polygon;
+                const ClipResult result = clip_triangle(a, b, c, band, polygon);
+                if ((ca | cb | cc) == 0) CHECK(result == ClipResult::inside);
+                if ((ca & cb & cc) != 0) CHECK(result == ClipResult::outside);
+                if (result == ClipResult::inside) CHECK((ca | cb | cc) == 0);
+            }
 }

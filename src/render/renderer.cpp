@@ -208,7 +208,7 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
         barrier.wait();
         if (w == 0) vertex_seconds = seconds_since(start);
         WorkerSlot& slot = slots[std::size_t(w)];
-        SetupStage setup(scene, needs, options, fb, slot.counts);
+        SetupStage setup(scene, needs, options, fb, band, slot.counts);
         RasterStage raster(scene, needs, options, fb, slot.counts);
         std::size_t chunk = 0;
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {

@@ -87,10 +87,11 @@ struct PreparedPiece {
 // clipping, viewport, snapping, culling and triangle setup (DESIGN.md, "triangle setup").
 class SetupStage {
 public:
+    // `band`: the frame's guard band, the one the vertex stage's clip codes were worked out for.
     SetupStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, const Framebuffer& fb,
-               RenderStats& counters)
-        : scene_(scene), needs_(needs), options_(options), width_(fb.width), height_(fb.height),
-          band_(guard_band_for(fb.width, fb.height)), explaining_(fb.explanation != nullptr), counters_(counters) {}
+               const GuardBand& band, RenderStats& counters)
+        : scene_(scene), needs_(needs), options_(options), width_(fb.width), height_(fb.height), band_(band),
+          explaining_(fb.explanation != nullptr), counters_(counters) {}
 
     // Prepares triangles [first, last) of object `object_index`, appending their pieces.
     void prepare(int object_index, const TransformedMesh& vertices, std::size_t first, std::size_t last,
