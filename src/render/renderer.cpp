@@ -236,9 +236,9 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
                         for (const PreparedPiece& piece : chunk_batches[b].pieces) raster.draw(piece, rows_of_worker);
                 };
                 if (workers > 1 && pieces <= balanced_pieces) {
-                    // One band at a time: RowSet{band, band_count} holds band `band` alone.
-                    for (int band; (band = next_band[set].fetch_add(1, std::memory_order_relaxed)) < band_count;)
-                        draw_chunk(RowSet{band, band_count});
+                    // One band at a time: RowSet{b, band_count} holds band b alone.
+                    for (int b; (b = next_band[set].fetch_add(1, std::memory_order_relaxed)) < band_count;)
+                        draw_chunk(RowSet{b, band_count});
                 } else {
                     draw_chunk(RowSet{w, workers});
                 }
