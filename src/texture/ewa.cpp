@@ -87,15 +87,13 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     const int width = s1 - s0 + 1;
     if (width > stack_columns) heap_column_store.resize(std::size_t(width));
     int* const columns = width > stack_columns ? heap_column_store.data() : stack_column_store;
-    // (Every mode leaves an index inside the image as it is.)
-    const bool columns_inside = s0 >= 0 && s1 < w;
-    for (int k = 0; k < width; ++k) columns[k] = columns_inside ? s0 + k : wrap_index(s.wrap_u, s0 + k, w, node);
+    for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
     const float* const weight_of = weights.data();
     int inside = 0;
     const auto visit = [&](auto row_at, auto texel_at) {
         for (int it = t0; it <= t1; ++it) {
             const double tt = it - ct;
-            const auto row = row_at(unsigned(it) < unsigned(h) ? it : wrap_index(s.wrap_v, it, h, node));
+            const auto row = row_at(wrap_index(s.wrap_v, it, h, node));
             double ss = s0 - cs;
             double r2 = a * ss * ss + b * ss * tt + c * tt * tt;
             double step = a * (2.0 * ss + 1.0) + b * tt;

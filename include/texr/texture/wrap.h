@@ -66,8 +66,10 @@ inline int wrap_node_index(Wrap mode, int i, int n) {
     return 0;
 }
 
-// `node`: the sampler uses node registration (see sampler.h).
+// `node`: the sampler uses node registration (see sampler.h). Every mode leaves an index
+// inside the image as it is: that, the usual case, is answered first.
 inline int wrap_index(Wrap mode, int i, int n, bool node = false) {
+    if (unsigned(i) < unsigned(n)) return i;
     if (node) return wrap_node_index(mode, i, n);
     switch (mode) {
         case Wrap::repeat: return wrap_repeat_index(i, n);
