@@ -10,96 +10,136 @@ namespace texr {
 
 namespace {
 
-// Weights of the source texels under output texel i's footprint [i n/m, (i+1) n/m),
-// normalised to sum to 1: (first source texel, weights...).
-struct Footprint {
-    int first;
-    std::vector<float> weights;
+// The source texels under output texel i's footprint [i n/m, (i+1) n/m): texels first[i] to
+// first[i] + count[i] - 1, with weights (the overlap of each, over n/m: they sum to 1)
+// weight[i * max_count + k]. Two texels of weight 1/2 each for even n; two or three for odd.
+struct Footprints {
+    std::vector<int> first, count;
+    std::vector<float> weight;
+    int max_count = 0;
 };
 
-std::vector<Footprint> footprints(int n, int m) {
-    std::vector<Footprint> out(static_cast<std::size_t>(m));
+Footprints footprints(int n, int m) {
     const double scale = double(n) / double(m);
+    Footprints f;
+    f.max_count = int(std::ceil(scale)) + 1;
+    f.first.resize(std::size_t(m)), f.count.resize(std::size_t(m));
+    f.weight.assign(std::size_t(m) * std::size_t(f.max_count), 0.0f);
     for (int i = 0; i < m; ++i) {
         const double lo = i * scale, hi = (i + 1) * scale;
-        Footprint& f = out[std::size_t(i)];
-        f.first = int(std::floor(lo));
-        for (int k = f.first; k < n && k < hi; ++k) {
-            const double overlap = std::min<double>(hi, k + 1) - std::max<double>(lo, k);
-            if (overlap > 0.0) f.weights.push_back(float(overlap / scale));
-            else f.weights.push_back(0.0f);
+        const int first = int(std::floor(lo));
+        int k = 0;
+        for (int t = first; t < n && t < hi; ++t, ++k) {
+            const double overlap = std::min<double>(hi, t + 1) - std::max<double>(lo, t);
+            f.weight[std::size_t(i) * std::size_t(f.max_count) + std::size_t(k)] = overlap > 0.0 ? float(overlap / scale) : 0.0f;
         }
+        f.first[std::size_t(i)] = first, f.count[std::size_t(i)] = k;
     }
-    return out;
+    return f;
 }
 
-}  // namespace
-
-namespace {
-
 // Streams one level from `source`, a row at a time: each output row is the weighted sum of
-// the (two or three) source rows under its footprint, each of those first reduced along x.
-// Only a few rows are held in float, so building the pyramid of an 8192^2 texture needs
-// no more memory than the levels themselves.
+// the (two or three) source rows under its footprint, each of those first decoded to linear
+// RGBA floats and reduced along x. Only a few rows are held in float, so building the
+// pyramid of an 8192^2 texture needs no more memory than the levels themselves.
 class RowReducer {
 public:
-    RowReducer(const Image& source, const std::vector<Footprint>& fx) : source_(source), fx_(fx) {}
+    RowReducer(const Image& source, const Footprints& fx)
+        : source_(source), fx_(fx), decoded_(4 * std::size_t(source.width())) {
+        for (Cached& c : cache_) c.texels.resize(4 * fx.first.size());
+    }
 
-    // Source row r reduced along x (cached: neighbouring output rows share source rows).
-    const std::vector<Color4>& row(int r) {
+    // Source row r reduced along x, 4 floats per output texel (cached: for odd heights,
+    // neighbouring output rows share a source row).
+    const float* row(int r) {
         for (Cached& c : cache_)
-            if (c.index == r) return c.texels;
+            if (c.index == r) return c.texels.data();
         Cached& slot = cache_[next_++ % cache_.size()];
         slot.index = r;
-        slot.texels.assign(fx_.size(), Color4(0.0f));
-        for (std::size_t i = 0; i < fx_.size(); ++i) {
-            const Footprint& f = fx_[i];
-            for (std::size_t k = 0; k < f.weights.size(); ++k) slot.texels[i] += f.weights[k] * source_.texel(f.first + int(k), r);
+        float* const in = decoded_.data();
+        const std::size_t n = 4 * std::size_t(source_.width());
+        if (source_.is_hdr()) {
+            for (int i = 0; i < source_.width(); ++i) {
+                const Color4 c = source_.texel(i, r);
+                in[4 * i] = c.x, in[4 * i + 1] = c.y, in[4 * i + 2] = c.z, in[4 * i + 3] = c.w;
+            }
+        } else {  // as Image::texel decodes: colour through the table, alpha as k / 255
+            const LdrLevel l = source_.ldr_level();
+            const std::uint8_t* t = l.texels + std::size_t(r) * l.row_bytes;
+            for (std::size_t k = 0; k < n; k += 4) {
+                in[k] = l.decode[t[k]], in[k + 1] = l.decode[t[k + 1]], in[k + 2] = l.decode[t[k + 2]];
+                in[k + 3] = t[k + 3] * (1.0f / 255.0f);
+            }
         }
-        return slot.texels;
+        float* out = slot.texels.data();
+        const std::size_t stride = std::size_t(fx_.max_count);
+        for (std::size_t i = 0; i < fx_.first.size(); ++i, out += 4) {
+            const float* t = in + 4 * std::size_t(fx_.first[i]);
+            const float* w = &fx_.weight[i * stride];
+            float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            for (int k = 0; k < fx_.count[i]; ++k, t += 4)
+                for (int ch = 0; ch < 4; ++ch) sum[ch] += w[k] * t[ch];
+            for (int ch = 0; ch < 4; ++ch) out[ch] = sum[ch];
+        }
+        return slot.texels.data();
     }
 
 private:
     struct Cached {
         int index = -1;
-        std::vector<Color4> texels;
+        std::vector<float> texels;
     };
     const Image& source_;
-    const std::vector<Footprint>& fx_;
+    const Footprints& fx_;
+    std::vector<float> decoded_;  // the source row being reduced
     std::array<Cached, 4> cache_;
     std::size_t next_ = 0;
 };
 
-std::uint8_t to_unorm8(float linear) { return std::uint8_t(std::lround(std::clamp(linear, 0.0f, 1.0f) * 255.0f)); }
+// Linear [0, 1] to 0..255, rounded half away from zero (as std::lround, without its call):
+// v - floor(v) is exact for v < 2^23. NaN maps to 0.
+std::uint8_t to_unorm8(float linear) {
+    if (!(linear > 0.0f)) return 0;
+    if (linear >= 1.0f) return 255;
+    const float v = linear * 255.0f;
+    const int k = int(v);
+    return std::uint8_t(k + (v - float(k) >= 0.5f ? 1 : 0));
+}
 
 }  // namespace
 
 Image downsample(const Image& source) {
     const int w = source.width(), h = source.height();
     const int mw = std::max(1, w / 2), mh = std::max(1, h / 2);
-    const auto fx = footprints(w, mw), fy = footprints(h, mh);
+    const Footprints fx = footprints(w, mw), fy = footprints(h, mh);
     RowReducer reducer(source, fx);
     const std::size_t count = std::size_t(mw) * std::size_t(mh);
     std::vector<float> hdr(source.is_hdr() ? count * 4 : 0);
     std::vector<std::uint8_t> ldr(source.is_hdr() ? 0 : count * 4);
     const bool srgb = source.color_space() == ColorSpace::srgb;
-    std::vector<Color4> out_row(static_cast<std::size_t>(mw));
+    const std::uint8_t* const srgb_table = linear_to_srgb8_table();
+    std::vector<float> out_row(4 * std::size_t(mw));
     for (int j = 0; j < mh; ++j) {
-        std::fill(out_row.begin(), out_row.end(), Color4(0.0f));
-        const Footprint& f = fy[std::size_t(j)];
-        for (std::size_t k = 0; k < f.weights.size(); ++k) {
-            const std::vector<Color4>& r = reducer.row(f.first + int(k));
-            for (int i = 0; i < mw; ++i) out_row[std::size_t(i)] += f.weights[k] * r[std::size_t(i)];
-        }
-        for (int i = 0; i < mw; ++i) {
-            const std::size_t p = 4 * (std::size_t(j) * std::size_t(mw) + std::size_t(i));
-            const Color4& c = out_row[std::size_t(i)];
-            if (source.is_hdr()) {
-                for (int ch = 0; ch < 4; ++ch) hdr[p + std::size_t(ch)] = c[ch];
-                continue;
+        std::fill(out_row.begin(), out_row.end(), 0.0f);
+        const std::size_t stride = std::size_t(fy.max_count);
+        for (int k = 0; k < fy.count[std::size_t(j)]; ++k) {
+            const float weight = fy.weight[std::size_t(j) * stride + std::size_t(k)];
+            const float* __restrict r = reducer.row(fy.first[std::size_t(j)] + k);
+            float* __restrict out = out_row.data();
+            for (std::size_t i = 0; i < out_row.size(); i += 4) {  // (written out: the compiler does the 4 at once)
+                out[i] += weight * r[i], out[i + 1] += weight * r[i + 1];
+                out[i + 2] += weight * r[i + 2], out[i + 3] += weight * r[i + 3];
             }
-            for (int ch = 0; ch < 3; ++ch) ldr[p + std::size_t(ch)] = srgb ? linear_to_srgb8(c[ch]) : to_unorm8(c[ch]);
-            ldr[p + 3] = to_unorm8(c[3]);  // alpha is linear
+        }
+        const std::size_t p = 4 * std::size_t(j) * std::size_t(mw);
+        if (source.is_hdr()) {
+            std::copy(out_row.begin(), out_row.end(), hdr.begin() + std::ptrdiff_t(p));
+            continue;
+        }
+        for (std::size_t i = 0; i < out_row.size(); i += 4) {
+            for (std::size_t ch = 0; ch < 3; ++ch)
+                ldr[p + i + ch] = srgb ? linear_to_srgb8(out_row[i + ch], srgb_table) : to_unorm8(out_row[i + ch]);
+            ldr[p + i + 3] = to_unorm8(out_row[i + 3]);  // alpha is linear
         }
     }
     if (source.is_hdr()) return Image::hdr(mw, mh, std::move(hdr));
