@@ -167,3 +167,29 @@ TEST_CASE("zero-area triangles cover nothing") {
     CHECK_FALSE(triangle_edges({at_pixels(1, 1), at_pixels(5, 5), at_pixels(9, 9)}, edges));
     CHECK_FALSE(triangle_edges({at_pixels(3, 3), at_pixels(3, 3), at_pixels(3, 3)}, edges));
 }
+
+TEST_CASE("row_range and column_range hold exactly the pixel centres inside the bounding box") {
+    // Brute force: centre k (at 256 k + 128) is in the range iff min <= 256 k + 128 <= max,
+    // for boxes with corners anywhere from well off screen to past the far edge, on and off
+    // the centres.
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<std::int64_t> coordinate(-4 * 256, 24 * 256);
+    const int width = 16, height = 12;
+    for (int trial = 0; trial < 20000; ++trial) {
+        TriangleEdges t{};
+        t.min_x = coordinate(rng), t.min_y = coordinate(rng);
+        t.max_x = t.min_x + coordinate(rng) % 700 + 700, t.max_y = t.min_y + coordinate(rng) % 700 + 700;
+        if (trial % 3 == 0) t.max_x = t.min_x + trial % 300, t.max_y = t.min_y + trial % 257;  // boxes under a pixel
+        int rows[2], columns[2];
+        row_range(t, height, rows[0], rows[1]);
+        column_range(t, width, columns[0], columns[1]);
+        for (int y = 0; y < height; ++y) {
+            const bool inside = t.min_y <= 256 * y + 128 && 256 * y + 128 <= t.max_y;
+            REQUIRE((y >= rows[0] && y <= rows[1]) == inside);
+        }
+        for (int x = 0; x < width; ++x) {
+            const bool inside = t.min_x <= 256 * x + 128 && 256 * x + 128 <= t.max_x;
+            REQUIRE((x >= columns[0] && x <= columns[1]) == inside);
+        }
+    }
+}

@@ -147,6 +147,28 @@ TEST_CASE("stress: slivers below 1e-6 px^2 and zero-area triangles draw nothing 
     CHECK(check_frame(fb).finite);
 }
 
+TEST_CASE("a triangle whose bounding box holds no pixel centre is culled before setup") {
+    // 64x64 pixels, 90 degree field of view, triangles at z = -1: pixel (px, py) is the point
+    // (px / 32 - 1, 1 - py / 32). Pixel centres are at k + 1/2.
+    const auto at = [](double px, double py) { return vertex(px / 32 - 1, 1 - py / 32, -1); };
+    for (const bool holds_centre : {false, true}) {
+        Scene scene = testing::camera_scene(64, 64, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);
+        scene.materials.push_back(Material{});
+        // Its box [10.6, 11.4] x [10.1, 11.9] holds the centres of rows 10 and 11 but of no
+        // column. Moved right by half a pixel, its box [11.1, 11.9] x [10.1, 11.9] holds
+        // those of column 11, rows 10 and 11: at y = 10.5 the triangle spans x from 11.19 to
+        // 11.81, at y = 11.5 from 11.41 to 11.59, so it covers both.
+        const double o = holds_centre ? 0.5 : 0.0;
+        testing::add_triangle(scene, {at(10.6 + o, 10.1), at(11.0 + o, 11.9), at(11.4 + o, 10.1)}, 0);
+        RenderStats stats;
+        const Framebuffer fb = render(scene, {}, stats);
+        CHECK(stats.triangles_culled == (holds_centre ? 0u : 1u));
+        CHECK(stats.triangles_set_up == (holds_centre ? 1u : 0u));
+        CHECK(stats.pixels_shaded == (holds_centre ? 2u : 0u));
+        if (holds_centre) CHECK((fb.drawn(fb.index(11, 10)) && fb.drawn(fb.index(11, 11))));
+    }
+}
+
 TEST_CASE("stress: NaN and Inf vertices are dropped and counted, never drawn") {
     const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
     Scene scene = testing::camera_scene(32, 32, {0, 0, 0}, {0, 0, -1}, 90.0, 0.1, 100.0);

@@ -45,13 +45,21 @@ bool triangle_edges(const std::array<SnappedVertex, 3>& v, TriangleEdges& out) {
     return true;
 }
 
-void row_range(const TriangleEdges& t, int height, int& first, int& last) {
-    // Row y's centre is 256 y + 128; it can be covered only within [min_y, max_y]. (As in
-    // span_for_row, the divisions by 256 are shifts, flooring for negative values too.)
+namespace {
+
+// The pixels k in [0, n) whose centres 256 k + 128 lie in [min, max] (in 1/256 pixel):
+// k >= (min - 128) / 256 and k <= (max - 128) / 256. The divisions by 256 are shifts,
+// flooring for negative values too (the ceiling as minus the floor of the negation).
+void centres_within(std::int64_t min, std::int64_t max, int n, int& first, int& last) {
     const std::int64_t half = subpixel_scale / 2;
-    first = int(std::max<std::int64_t>(0, -((half - t.min_y) >> subpixel_bits)));
-    last = int(std::min<std::int64_t>(height - 1, (t.max_y - half) >> subpixel_bits));
+    first = int(std::max<std::int64_t>(0, -((half - min) >> subpixel_bits)));
+    last = int(std::min<std::int64_t>(n - 1, (max - half) >> subpixel_bits));
 }
+
+}  // namespace
+
+void row_range(const TriangleEdges& t, int height, int& first, int& last) { centres_within(t.min_y, t.max_y, height, first, last); }
+void column_range(const TriangleEdges& t, int width, int& first, int& last) { centres_within(t.min_x, t.max_x, width, first, last); }
 
 Span span_for_row(const TriangleEdges& t, int y, int width) {
     // Each edge is a linear inequality in the pixel index x along the row:
@@ -63,10 +71,10 @@ Span span_for_row(const TriangleEdges& t, int y, int width) {
         slope[k] = subpixel_scale * e.a;
         offset[k] = (subpixel_scale / 2) * e.a + e.b * py + e.c + e.bias;
     }
-    // The pixels whose centres lie inside the bounding box (256 is a power of two: the
-    // divisions are shifts, flooring for negative values too).
-    std::int64_t lo = std::max<std::int64_t>(0, -((subpixel_scale / 2 - t.min_x) >> subpixel_bits));
-    std::int64_t hi = std::min<std::int64_t>(std::int64_t(width) - 1, (t.max_x - subpixel_scale / 2) >> subpixel_bits);
+    // The pixels whose centres lie inside the bounding box.
+    int first_column, last_column;
+    column_range(t, width, first_column, last_column);
+    std::int64_t lo = first_column, hi = last_column;
     if (lo > hi) return {0, 0};
     if (hi - lo < 16) {
         // A narrow triangle: test the few candidate centres directly (no divisions). The

@@ -159,9 +159,8 @@ private:
         // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
         // front-facing triangle has negative signed area there.
         if (cull_back && twice_signed_area(snapped) > 0) { ++counters_.triangles_culled; return false; }
-        if (off_screen(s.edges)) { ++counters_.triangles_culled; return false; }
+        if (!centre_in_box(s.edges, s.first_row, s.last_row)) { ++counters_.triangles_culled; return false; }
         ++counters_.triangles_set_up;
-        row_range(s.edges, height_, s.first_row, s.last_row);
 
         const Material& material = scene_.materials[std::size_t(piece.material)];
         const Needs needs = needs_[std::size_t(piece.material)];
@@ -194,11 +193,15 @@ private:
         return true;
     }
 
-    // The bounding box of the snapped vertices (triangle_edges found it) misses every pixel centre.
-    bool off_screen(const TriangleEdges& e) const {
-        const std::int64_t half = subpixel_scale / 2;  // pixel centres are at 256 k + 128
-        return e.max_x < half || e.max_y < half || e.min_x > (width_ - 1) * subpixel_scale + half ||
-               e.min_y > (height_ - 1) * subpixel_scale + half;
+    // Whether the bounding box of the snapped vertices (triangle_edges found it) holds a pixel
+    // centre of the frame; its rows are `first` to `last`. A triangle whose box holds none
+    // covers none: it is off screen, or small and between the centres (half of the set-up
+    // triangles of a 1M-triangle terrain at 1920x1080 were), and needs no planes.
+    bool centre_in_box(const TriangleEdges& e, int& first, int& last) const {
+        row_range(e, height_, first, last);
+        int first_column, last_column;
+        column_range(e, width_, first_column, last_column);
+        return first <= last && first_column <= last_column;
     }
 
     const Scene& scene_;

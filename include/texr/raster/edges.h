@@ -52,7 +52,10 @@ struct Span {
 // The pixels of row y whose centres the triangle covers, clipped to [0, width).
 Span span_for_row(const TriangleEdges& t, int y, int width);
 
-// First and last row (inclusive) whose centres can be covered, clipped to [0, height).
+// First and last row (inclusive) whose centres can be covered, clipped to [0, height):
+// the rows whose centres lie within the bounding box. Empty (first > last) if there is none.
 void row_range(const TriangleEdges& t, int height, int& first, int& last);
+// The same for columns, clipped to [0, width).
+void column_range(const TriangleEdges& t, int width, int& first, int& last);
 
 }  // namespace texr

@@ -8,7 +8,7 @@ namespace texr {
 struct RenderStats {
     std::uint64_t triangles_in = 0;       // triangles submitted
     std::uint64_t triangles_clipped = 0;  // needed clipping against a plane
-    std::uint64_t triangles_culled = 0;   // off screen or back-facing: no setup
+    std::uint64_t triangles_culled = 0;   // back-facing, or no pixel centre in its box: no setup
     std::uint64_t triangles_dropped = 0;  // NaN/Inf vertices or zero area
     std::uint64_t triangles_set_up = 0;   // edge functions and planes computed
     std::uint64_t spans = 0;              // non-empty row spans walked
