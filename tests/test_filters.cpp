@@ -355,6 +355,24 @@ TEST_CASE("EWA at a NaN coordinate returns a finite colour for every wrap mode")
     }
 }
 
+TEST_CASE("EWA at coordinates from 1e15 texels to infinity with clamp and border reads the edge or the border") {
+    // A white 4x4 texture. Far outside on u, a small footprint covers only what lies beyond
+    // the left or right edge: the border colour (0) with border, the edge texels (1) with
+    // clamp, whatever the magnitude, up to infinity (where no centre is left to move).
+    const MipMap mip(std::make_shared<Image>(Image::hdr(4, 4, std::vector<float>(64, 1.0f))));
+    const double inf = std::numeric_limits<double>::infinity();
+    for (const double u : {-1e16, 1e16, -1e20, 1e300, -inf, inf}) {
+        CAPTURE(u);
+        Sampler border, clamp;
+        border.wrap_u = border.wrap_v = Wrap::border, border.border = Color4(0.0f);
+        clamp.wrap_u = clamp.wrap_v = Wrap::clamp;
+        int texels = 0;
+        const UVDerivatives d = {0.1, 0.0, 0.0, 0.1};  // 0.4 texels: the base level
+        CHECK(sample_ewa(mip, border, u, 0.5, d, texels).x == 0.0f);
+        CHECK(sample_ewa(mip, clamp, u, 0.5, d, texels).x == doctest::Approx(1.0));
+    }
+}
+
 TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1") {
     const MipMap mip(std::make_shared<Image>(random_hdr(16, 16, 31)));
     Sampler s;

@@ -248,3 +248,73 @@ TEST_CASE("the short path for repeat on power-of-two 8-bit images reads what the
             CHECK(sample_bilinear(ldr, s, u, v).x == doctest::Approx(double(expected)).epsilon(1e-5));
         }
 }
+
+TEST_CASE("just below a texel boundary in the period below 0, every wrap mode reads the texel floor(u n) gives") {
+    // A 4x1 float texture holding its own index (0, 1, 2, 3). u = -0.25 less one ulp puts the
+    // lattice coordinate at u 4 = -1.0000000000000002, so floor(u 4) = -2: repeat reads
+    // texel 2, mirror (OpenGL: ... 1 0 | 0 1 2 3 | 3 2 1 0 ...) reads texel 1, clamp texel 0,
+    // border the border colour. (Removing a period in double, -1.0000000000000002 + 4 rounds
+    // to 3, one texel on.)
+    const Image image = Image::hdr(4, 1, {0, 0, 0, 1, 1, 1, 1, 1, 2, 2, 2, 1, 3, 3, 3, 1});
+    const double u = std::nextafter(-0.25, -1.0);
+    CHECK(sample_nearest(image, sampler(Filter::nearest, Wrap::repeat, Registration::cell), u, 0.5).x == 2.0f);
+    CHECK(sample_nearest(image, sampler(Filter::nearest, Wrap::mirror, Registration::cell), u, 0.5).x == 1.0f);
+    CHECK(sample_nearest(image, sampler(Filter::nearest, Wrap::clamp, Registration::cell), u, 0.5).x == 0.0f);
+    Sampler border = sampler(Filter::nearest, Wrap::border, Registration::cell);
+    border.border = Color4(0.5f);
+    CHECK(sample_nearest(image, border, u, 0.5).x == 0.5f);
+
+    // Every boundary k / n for k = -1 .. -(n-1) and one ulp either side of it, on an odd and an
+    // even size: the texel is floor(x) of the lattice coordinate x = u n as computed, wrapped
+    // by the index rules (worked out here in integers).
+    for (const int n : {7, 8}) {
+        std::vector<float> texels;
+        for (int i = 0; i < n; ++i) texels.insert(texels.end(), {float(i), float(i), float(i), 1.0f});
+        const Image row = Image::hdr(n, 1, texels);
+        for (int k = 1; k < n; ++k)
+            for (const double t : {std::nextafter(-double(k) / n, -1.0), -double(k) / n, std::nextafter(-double(k) / n, 0.0)}) {
+                const long long whole = (long long)std::floor(t * n);
+                const int repeat = int(((whole % n) + n) % n);
+                const int m = int(((whole % (2 * n)) + 2 * n) % (2 * n)), mirror = m < n ? m : 2 * n - 1 - m;
+                CAPTURE(t);
+                CHECK(sample_nearest(row, sampler(Filter::nearest, Wrap::repeat, Registration::cell), t, 0.5).x == float(repeat));
+                CHECK(sample_nearest(row, sampler(Filter::nearest, Wrap::mirror, Registration::cell), t, 0.5).x == float(mirror));
+            }
+    }
+}
+
+TEST_CASE("node registration's nearest rounds the lattice coordinate to the nearest node exactly") {
+    // Two texels (0 and 1) at u = 0 and u = 1. x = u (n - 1) = u. Just below 1/2 the nearest
+    // node is 0 (x + 1/2 would round up to 1); just below -1/2 it is node -1, which mirror
+    // reflects onto node 1, and just above -1/2 node 0.
+    const Image image = Image::hdr(2, 1, {0, 0, 0, 1, 1, 1, 1, 1});
+    const Sampler mirror = sampler(Filter::nearest, Wrap::mirror, Registration::node);
+    CHECK(sample_nearest(image, mirror, 0.49999999999999994, 0.5).x == 0.0f);
+    CHECK(sample_nearest(image, mirror, 0.5, 0.5).x == 1.0f);
+    CHECK(sample_nearest(image, mirror, std::nextafter(-0.5, -1.0), 0.5).x == 1.0f);
+    CHECK(sample_nearest(image, mirror, std::nextafter(-0.5, 0.0), 0.5).x == 0.0f);
+}
+
+TEST_CASE("bilinear's general path agrees with the short path just below texel boundaries under 0") {
+    // A 1024x1 8-bit image takes the short path (bit masks on floor(x)); the same values as
+    // floats take the general path. At u = -0.10791015625000001 (x = u 1024 - 1/2 just
+    // below -111) both must read texels 912 and 913 with the same weights.
+    std::vector<std::uint8_t> bytes;
+    std::vector<float> floats;
+    for (int i = 0; i < 1024; ++i) {
+        const auto value = std::uint8_t((i * 37 + 11) % 256);
+        bytes.insert(bytes.end(), {value, value, value, 255});
+        floats.insert(floats.end(), {value / 255.0f, value / 255.0f, value / 255.0f, 1.0f});
+    }
+    const Image ldr = Image::ldr(1024, 1, ColorSpace::linear, bytes);
+    const Image hdr = Image::hdr(1024, 1, floats);
+    REQUIRE(ldr.is_ldr_pow2());
+    const Sampler s = sampler(Filter::bilinear, Wrap::repeat, Registration::cell);
+    CHECK(sample_bilinear(ldr, s, -0.10791015625000001, 0.5).x == sample_bilinear(hdr, s, -0.10791015625000001, 0.5).x);
+    for (int k = 1; k < 1024; k += 7)
+        for (const double t : {std::nextafter((0.5 - k) / 1024, -1.0), std::nextafter((0.5 - k) / 1024, 0.0)}) {
+            CAPTURE(t);
+            CHECK(sample_bilinear(ldr, s, t, 0.5).x == sample_bilinear(hdr, s, t, 0.5).x);
+            CHECK(sample_nearest(ldr, s, t, 0.5).x == sample_nearest(hdr, s, t, 0.5).x);
+        }
+}

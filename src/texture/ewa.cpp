@@ -62,9 +62,15 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     // with the same weights, as the ellipse keeps its place on the texel lattice.
     const auto centre = [&](double t, int n, double half, Wrap wrap) {
         const double x = node ? t * (n - 1) : t * n - 0.5;
-        if (wrap == Wrap::repeat || wrap == Wrap::mirror) return reduce_lattice(wrap, x, n, node);
-        if (std::isnan(x)) return 0.0;  // (as reduce_lattice reads NaN)
+        if (wrap == Wrap::repeat || wrap == Wrap::mirror) {
+            const LatticePoint p = split_lattice(wrap, x, n, node);
+            return double(p.whole) + p.fraction;
+        }
+        if (std::isnan(x)) return 0.0;  // (as split_lattice reads NaN)
         const double below = -half - 2.0, above = double(n) + half + 2.0;
+        // From 1e15 texels on (and at infinity) no fraction is left to keep the ellipse's place
+        // on the lattice by (and x + ceil(below - x) would round away from below).
+        if (!(std::fabs(x) < 1e15)) return x < 0.0 ? below : above;
         if (x < below) return x + std::ceil(below - x);
         if (x > above) return x - std::ceil(x - above);
         return x;

@@ -10,12 +10,11 @@ namespace texr {
 
 namespace {
 
-// Texture coordinate -> lattice coordinate (texels), reduced by whole periods so it fits an int.
-inline double lattice(Registration registration, Wrap wrap, double t, int n, double inv_n) {
+// Texture coordinate -> lattice coordinate (texels), split into whole texels (reduced by
+// whole periods, so it fits an int) and the fraction.
+inline LatticePoint lattice(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
-    const double x = node ? t * (n - 1) : t * n - 0.5;
-    if (x >= 0.0 && x < double(n - 1)) return x;  // the common case: nothing to reduce
-    return reduce_lattice(wrap, x, n, inv_n, node);
+    return split_lattice(wrap, node ? t * (n - 1) : t * n - 0.5, n, inv_n, node);
 }
 
 }  // namespace
@@ -32,18 +31,18 @@ float mitchell_netravali(float x, float b, float c) {
 
 Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, double v) {
     const int w = image.width(), h = image.height();
-    const double x = lattice(sampler.registration, sampler.wrap_u, u, w, image.inv_width());
-    const double y = lattice(sampler.registration, sampler.wrap_v, v, h, image.inv_height());
-    const double x0 = fast_floor(x), y0 = fast_floor(y);
-    const float fu = float(x - x0), fv = float(y - y0);
+    const LatticePoint x = lattice(sampler.registration, sampler.wrap_u, u, w, image.inv_width());
+    const LatticePoint y = lattice(sampler.registration, sampler.wrap_v, v, h, image.inv_height());
+    const int x0 = int(x.whole), y0 = int(y.whole);
+    const float fu = float(x.fraction), fv = float(y.fraction);
     // Taps at offsets -1, 0, 1, 2 from floor(x): distances 1 + f, f, 1 - f, 2 - f.
     float wu[4], wv[4];
     int iu[4], iv[4];
     for (int k = 0; k < 4; ++k) {
         wu[k] = mitchell_netravali(float(k - 1) - fu, sampler.cubic_b, sampler.cubic_c);
         wv[k] = mitchell_netravali(float(k - 1) - fv, sampler.cubic_b, sampler.cubic_c);
-        iu[k] = wrap_index(sampler.wrap_u, int(x0) + k - 1, w, sampler.registration == Registration::node);
-        iv[k] = wrap_index(sampler.wrap_v, int(y0) + k - 1, h, sampler.registration == Registration::node);
+        iu[k] = wrap_index(sampler.wrap_u, x0 + k - 1, w, sampler.registration == Registration::node);
+        iv[k] = wrap_index(sampler.wrap_v, y0 + k - 1, h, sampler.registration == Registration::node);
     }
     Color4 sum(0.0f);
     for (int b = 0; b < 4; ++b) {

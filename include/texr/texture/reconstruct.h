@@ -59,13 +59,12 @@ namespace reconstruct_detail {
     const bool node = registration == Registration::node;
     // Node registration: reduce the lattice position first, then round to the nearest node,
     // so u and u + 1 read the same texel (see wrap_node_index for the node at u = 1).
-    double x = node ? t * (n - 1) : t * n;
-    if (!(x >= 0.0 && x < double(node ? n - 1 : n))) x = reduce_lattice(wrap, x, n, inv_n, node);
+    const LatticePoint p = split_lattice(wrap, node ? t * (n - 1) : t * n, n, inv_n, node);
+    int l = int(p.whole);
     if (node) {
         if (wrap == Wrap::border && !(t >= 0.0 && t <= 1.0)) return -1;  // the slide's border test
-        x += 0.5;
+        if (p.fraction >= 0.5) ++l;  // round half up (exactly: x + 1/2 can round up from just below 1/2)
     }
-    const int l = int(fast_floor(x));
     // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
     if ((wrap == Wrap::clamp || wrap == Wrap::border) && l == n && t <= 1.0) return n - 1;
     if (wrap == Wrap::repeat && !node && l < n) return l;  // reduced into [0, n) already
@@ -77,7 +76,7 @@ namespace reconstruct_detail {
 // The short path of the default sampler (cell registration, repeat on both axes) on an
 // 8-bit power-of-two image: floor(x) mod n is the low bits of floor(x) in two's complement,
 // so no whole periods need removing. x - floor(x) is the exact fraction for |x| < 2^52;
-// the short path stops where the general one stops reading fractions (reduce_lattice:
+// the short path stops where the general one stops reading fractions (split_lattice:
 // beyond 1e15 texels a coordinate reads as 0), so the two agree everywhere. The caller has
 // checked takes_short_path (the span walk does so once per triangle).
 constexpr double short_path_limit = 1e15;
@@ -127,17 +126,10 @@ struct AxisTaps {
 
 [[gnu::always_inline]] inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
-    double x = node ? t * (n - 1) : t * n - 0.5;
-    if (wrap == Wrap::repeat && !node) {
-        // Fast path: reduce into [0, n) once; the right neighbour of n - 1 is 0.
-        if (!(x >= 0.0 && x < double(n))) x = reduce_lattice(wrap, x, n, inv_n);
-        const int i0 = std::min(int(x), n - 1);  // x >= 0: truncation is floor
-        return {i0, i0 + 1 < n ? i0 + 1 : 0, float(x - i0)};
-    }
-    x = reduce_lattice(wrap, x, n, inv_n, node);
-    const double x0 = fast_floor(x);
-    const int i = int(x0);
-    return {wrap_index(wrap, i, n, node), wrap_index(wrap, i + 1, n, node), float(x - x0)};
+    const LatticePoint p = split_lattice(wrap, node ? t * (n - 1) : t * n - 0.5, n, inv_n, node);
+    const int i = int(p.whole);
+    if (wrap == Wrap::repeat && !node) return {i, i + 1 < n ? i + 1 : 0, float(p.fraction)};  // i in [0, n) already
+    return {wrap_index(wrap, i, n, node), wrap_index(wrap, i + 1, n, node), float(p.fraction)};
 }
 
 }  // namespace reconstruct_detail

@@ -3,10 +3,11 @@
 //  - wrap_*(u): the slides' functions on a texture coordinate, returning t in [0, 1];
 //  - wrap_*_index(i, n): the same rule on an integer texel index (OpenGL's results), used by
 //    the filters once a coordinate is on the texel lattice.
-// Large coordinates: u arrives as a double. For repeat and mirror the lattice coordinate is
-// reduced by whole periods *in double* (reduce_lattice) before it is converted to int, so
-// |u| up to 1e7 on a 16384-texel image (1.6e11 texels) neither overflows an int nor loses
-// the fraction (a double has 53 bits, leaving 16 bits of sub-texel precision at 1.6e11).
+// Large coordinates: u arrives as a double. The lattice coordinate is split into whole
+// texels (a 64-bit integer, from which repeat and mirror remove whole periods exactly) and
+// the fraction (split_lattice), so |u| up to 1e7 on a 16384-texel image (1.6e11 texels)
+// neither overflows an int nor loses the fraction (a double has 53 bits, leaving 16 bits of
+// sub-texel precision at 1.6e11).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -88,45 +89,49 @@ inline std::int64_t floor_to_int64(double x) {
 }
 inline double fast_floor(double x) { return double(floor_to_int64(x)); }
 
-// Brings a lattice coordinate x (in texels) into a small range that the mode treats the
-// same: whole periods (p = n texels for repeat, 2n for mirror; n - 1 and 2(n - 1) with node
-// registration) are removed; for clamp and border everything beyond two texels outside the
-// image behaves like two texels outside. inv_n = 1 / n (the caller keeps it, so cell
-// registration needs no division per lookup; node registration divides by n - 1). Coordinates beyond 1e15 texels, NaN included, carry no fraction
-// any more and are read as 0.
-inline double reduce_lattice(Wrap mode, double x, int n, double inv_n, bool node = false) {
-    switch (mode) {
-        case Wrap::repeat:
-        case Wrap::mirror: {
-            if (!(std::fabs(x) < 1e15)) return 0.0;
-            const int p = node ? std::max(1, n - 1) : n;
-            const double inv_p = node ? 1.0 / p : inv_n;
-            const double period = mode == Wrap::repeat ? double(p) : 2.0 * double(p);
-            const double inv_period = mode == Wrap::repeat ? inv_p : 0.5 * inv_p;
-            const double k = fast_floor(x * inv_period);
-            double r = x - period * k;
-            // x * inv_period is rounded, so k may be one off: put r back into [0, period). A
-            // remainder within half an ulp below period rounds up to period itself, which
-            // would read as the start of the next period instead of the end of this one: it
-            // becomes the largest double below period.
-            if (r < 0.0) {  // k one too big
-                r += period;
-                if (r >= period) r = std::nextafter(period, 0.0);
-            } else if (r >= period) {  // k one too small, or r rounded up to period
-                const double next = x - period * (k + 1.0);
-                r = next >= 0.0 ? next : std::nextafter(period, 0.0);
-            }
-            return r;
-        }
-        case Wrap::clamp:
-        case Wrap::border:
-            if (!(x == x)) return 0.0;
-            return std::clamp(x, -2.0, double(n) + 2.0);
+// A lattice coordinate x (in texels) as whole texels and a fraction, x = whole + f with
+// f = x - floor(x) in [0, 1): exact for |x| < 2^52, as x - floor(x) needs no rounding there.
+// The whole part is brought into a small range that the mode treats the same, in integers:
+// for repeat and mirror, whole periods (p = n texels for repeat, 2n for mirror; n - 1 and
+// 2(n - 1) with node registration) are removed, so |u| up to 1e7 on a 16384-texel image
+// (1.6e11 texels) neither overflows an int nor loses the fraction; for clamp and border,
+// everything beyond two texels outside the image behaves like two texels outside.
+// (Removing periods from x itself, in double, would round x + p for x just below 0 to the
+// precision of p, and could land on the next texel.) Repeat and mirror coordinates beyond
+// 1e15 texels, NaN included, carry no fraction any more and are read as 0; NaN reads as 0
+// for clamp and border too.
+struct LatticePoint {
+    std::int64_t whole;  // within [-2, n + 2] for clamp and border, [0, period) otherwise
+    double fraction;
+};
+
+// inv_n = 1 / n (the caller keeps it, so that cell registration needs no division per lookup;
+// node registration divides by n - 1).
+inline LatticePoint split_lattice(Wrap mode, double x, int n, double inv_n, bool node = false) {
+    if (mode == Wrap::clamp || mode == Wrap::border) {
+        if (!(x == x)) return {0, 0.0};
+        x = std::clamp(x, -2.0, double(n) + 2.0);
+        const std::int64_t whole = floor_to_int64(x);
+        return {whole, x - double(whole)};
     }
-    return x;
+    if (!(std::fabs(x) < 1e15)) return {0, 0.0};
+    const std::int64_t whole = floor_to_int64(x);
+    const std::int64_t p = node ? std::max(1, n - 1) : n;
+    const std::int64_t period = mode == Wrap::repeat ? p : 2 * p;
+    std::int64_t reduced = whole;
+    if (!(reduced >= 0 && reduced < period)) {
+        // The quotient whole / period from a product in double (|whole| < 2^50: it is at most
+        // one off), the remainder in integers (exact), then put into [0, period).
+        const double inv_p = node ? 1.0 / double(p) : inv_n;
+        const double inv_period = mode == Wrap::repeat ? inv_p : 0.5 * inv_p;
+        reduced = whole - period * floor_to_int64(double(whole) * inv_period);
+        if (reduced < 0) reduced += period;
+        else if (reduced >= period) reduced -= period;
+    }
+    return {reduced, x - double(whole)};
 }
-inline double reduce_lattice(Wrap mode, double x, int n, bool node = false) {
-    return reduce_lattice(mode, x, n, 1.0 / n, node);
+inline LatticePoint split_lattice(Wrap mode, double x, int n, bool node = false) {
+    return split_lattice(mode, x, n, 1.0 / n, node);
 }
 
 }  // namespace texr
