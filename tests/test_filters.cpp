@@ -465,9 +465,13 @@ Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, d
 }  // namespace
 
 TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between two levels") {
-    // Worked out from the definition (ewa.h): the derivative vectors in base texels, the
-    // minor axis stretched to major / max anisotropy, lambda = log2(minor), the axes scaled
-    // by 0.7 and taken to each level's texels, the two levels blended by lambda's fraction.
+    // Worked out from the definition (ewa.h): the derivative vectors in base texels span the
+    // footprint ellipse {d1 cos t + d2 sin t}; its principal semi-axes are its longest and
+    // shortest radii, found here by searching t (the filter uses a closed form); the minor
+    // axis stretched to major / max anisotropy, lambda = log2(minor), the axes scaled by 0.7
+    // and taken to each level's texels, the two levels blended by lambda's fraction. Two
+    // footprints are strongly sheared (d1 and d2 nearly parallel): their minor axis is much
+    // shorter than either derivative vector.
     // Three textures: 8-bit power-of-two and 8-bit 48x40 (read through row addresses) and
     // float (read through Image::texel); every wrap mode, both registrations, coordinates
     // beyond [0, 1]. The last footprint, at max anisotropy 64, is wider than the 128 columns
@@ -484,7 +488,8 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
         float max_anisotropy;
     };
     const Footprint footprints[] = {{0.6, 0.2, -0.1, 0.5, 16}, {5.0, 2.0, -0.3, 1.1, 16}, {1.5, 9.0, 2.1, -0.2, 16},
-                                    {30.0, 0.0, 0.0, 0.2, 16}, {0.0, 3.2, 2.3, 0.0, 16},  {240.0, 12.0, 0.0, 1.0, 64}};
+                                    {30.0, 0.0, 0.0, 0.2, 16}, {0.0, 3.2, 2.3, 0.0, 16},  {240.0, 12.0, 0.0, 1.0, 64},
+                                    {10.0, 0.0, 10.0, 0.1, 16}, {8.0, 6.0, 7.0, 5.5, 16}};
     const std::pair<Wrap, Wrap> wraps[] = {{Wrap::repeat, Wrap::repeat}, {Wrap::mirror, Wrap::clamp}, {Wrap::border, Wrap::mirror},
                                            {Wrap::clamp, Wrap::border}};
     for (const Footprint& fp : footprints)
@@ -496,9 +501,29 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                     s.max_anisotropy = fp.max_anisotropy;
                     s.wrap_u = wrap_u, s.wrap_v = wrap_v, s.registration = registration;
                     s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
-                    double d1u = fp.d1u, d1v = fp.d1v, d2u = fp.d2u, d2v = fp.d2v;
-                    double major = std::hypot(d1u, d1v), minor = std::hypot(d2u, d2v);
-                    if (minor > major) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+                    // The radius at parameter t, squared; the longest radius by a scan of t in
+                    // [0, pi) and a golden-section search around the best sample; the shortest is
+                    // a quarter turn of t away (the radius^2 is a + b cos 2(t - t0)).
+                    const auto radius2 = [&](double t) {
+                        const double x = fp.d1u * std::cos(t) + fp.d2u * std::sin(t), y = fp.d1v * std::cos(t) + fp.d2v * std::sin(t);
+                        return x * x + y * y;
+                    };
+                    double best = 0.0;
+                    for (int k = 1; k < 3600; ++k)
+                        if (radius2(M_PI * k / 3600) > radius2(best)) best = M_PI * k / 3600;
+                    double lo = best - M_PI / 3600, hi = best + M_PI / 3600;
+                    for (int k = 0; k < 100; ++k) {
+                        const double m1 = hi - (hi - lo) * 0.618033988749895, m2 = lo + (hi - lo) * 0.618033988749895;
+                        if (radius2(m1) < radius2(m2)) lo = m1;
+                        else hi = m2;
+                    }
+                    const double t_major = 0.5 * (lo + hi), t_minor = t_major + M_PI / 2;
+                    double d1u = fp.d1u * std::cos(t_major) + fp.d2u * std::sin(t_major);
+                    double d1v = fp.d1v * std::cos(t_major) + fp.d2v * std::sin(t_major);
+                    double d2u = fp.d1u * std::cos(t_minor) + fp.d2u * std::sin(t_minor);
+                    double d2v = fp.d1v * std::cos(t_minor) + fp.d2v * std::sin(t_minor);
+                    const double major = std::hypot(d1u, d1v);
+                    double minor = std::hypot(d2u, d2v);
                     if (minor * fp.max_anisotropy < major) {
                         const double stretch = major / fp.max_anisotropy / minor;
                         d2u *= stretch, d2v *= stretch, minor *= stretch;

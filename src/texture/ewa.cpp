@@ -134,23 +134,32 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // Work in base-level texels so the axes are comparable when W != H.
     const double w = mip.base().width(), h = mip.base().height();
     double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
-    double major = std::sqrt(d1u * d1u + d1v * d1v), minor = std::sqrt(d2u * d2u + d2v * d2v);
-    if (minor > major || std::isnan(major)) std::swap(d1u, d2u), std::swap(d1v, d2v), std::swap(major, minor);
+    // A derivative vector with a NaN counts as degenerate (no extent): the other one is the
+    // footprint.
+    if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
+    if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
+    // Compute the ellipse's principal axes. d1 and d2 are conjugate diameters of the
+    // footprint ellipse, not its axes (they are the axes only when perpendicular): the
+    // ellipse is the image of the unit circle under J = [d1 d2], whose semi-axes are J's
+    // singular values. With J J^T = [[p, r], [r, q]]:
+    //   major^2 = (p + q) / 2 + sqrt(((p - q) / 2)^2 + r^2),  minor = |det J| / major
+    // (the product of the two is |det J|; so the minor axis needs no difference of nearly
+    // equal numbers), the major axis at angle theta = atan2(2 r, p - q) / 2.
+    const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
+    const double half_difference = 0.5 * (p - q);
+    const double major = std::sqrt(0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r));
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
+    double minor = std::fabs(d1u * d2v - d2u * d1v) / major;
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
-    // reading an unbounded number of texels). A NaN minor axis counts as degenerate.
-    if (!(minor * s.max_anisotropy >= major)) {
-        const double target = major / s.max_anisotropy;
-        if (minor > 0.0) {
-            d2u *= target / minor, d2v *= target / minor;
-        } else {  // a degenerate footprint: any direction perpendicular to the major axis
-            d2u = -d1v / major * target, d2v = d1u / major * target;
-        }
-        minor = target;
-    }
+    // reading an unbounded number of texels).
+    if (!(minor * s.max_anisotropy >= major)) minor = major / s.max_anisotropy;
+    const double theta = 0.5 * std::atan2(2.0 * r, p - q);
+    const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
+    const double a1u = major * cos_theta, a1v = major * sin_theta;   // the major axis
+    const double a2u = -minor * sin_theta, a2v = minor * cos_theta;  // the minor axis
     // Level where the minor axis spans about one texel, blended with the next one. A
     // footprint wider than the coarsest level reads that level's average, as the ellipse
     // there would cover the whole image (and cost without bound).
@@ -164,7 +173,7 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     const float t = float(lambda - l0);
     const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
     const auto at = [&](int level) {
-        return ewa_at_level(mip.level(level), s, u, v, d1u * inv_w, d1v * inv_h, d2u * inv_w, d2v * inv_h, texels);
+        return ewa_at_level(mip.level(level), s, u, v, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h, texels);
     };
     const Color4 a = at(l0);
     if (t == 0.0f || l0 == last) return a;

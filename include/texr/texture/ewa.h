@@ -6,9 +6,10 @@
 //   A = d1v^2 + d2v^2 + 1,  B = -2 (d1u d1v + d2u d2v),  C = d1u^2 + d2u^2 + 1,  F = A C - B^2 / 4
 // (the +1 adds a one-texel reconstruction disc, so magnified footprints stay well formed).
 // Texels inside the ellipse get Gaussian weights exp(-alpha r^2) - exp(-alpha), r^2 = Q / F,
-// alpha = 2. The minor axis is stretched so major/minor <= max_anisotropy (bounding the
-// texels read), the level is chosen so the minor axis spans about one texel, and the results
-// of the two nearest levels are blended.
+// alpha = 2. The ellipse's principal axes (d1 and d2 are conjugate diameters, its axes only
+// when perpendicular) come from the singular values of [d1 d2]; the minor axis is stretched
+// so major/minor <= max_anisotropy (bounding the texels read), the level is chosen so the
+// minor axis spans about one texel, and the results of the two nearest levels are blended.
 #pragma once
 #include "texr/raster/homography.h"
 #include "texr/texture/mipmap.h"
