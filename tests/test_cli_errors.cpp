@@ -296,3 +296,60 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
     for (const char* column : {"scene", "width", "height", "threads", "filter", "mode"}) CHECK(header.find(column) != std::string::npos);
     CHECK(run_texr("bench --size 100000x100000 --out " + dir).exit_code == 2);
 }
+
+TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missing coordinates, quads with a bad index") {
+    const std::string dir = scratch_folder("obj-bad-lines");
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    struct Case {
+        std::string obj, where, what;
+    };
+    const Case cases[] = {
+        {"v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "expected a number"},
+        {"v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "needs x, y and z"},
+        {"v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "finite"},
+        {triangle + "vn 0 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "needs x, y and z"},
+        {triangle + "f 1 2\n", "bad.obj:4: ", "at least 3 corners"},
+        {triangle + "f 1 2 3/a\n", "bad.obj:4: ", "expected a face corner"},
+        // tinyobjloader drops such a quad with only a warning
+        {triangle + "v 1 1 0\nusemtl red\nf 1 2 3\nf 1 2 4 99\n", "bad.obj:7: ", "vertex that does not exist"},
+        {triangle + "f -1 -2 -4\n", "bad.obj:4: ", "vertex that does not exist"},
+    };
+    for (const Case& c : cases) {
+        write_text(dir + "/bad.obj", c.obj);
+        write_text(dir + "/scene.txt", "size 16 16\nmaterial red color 1 0 0\nmesh bad.obj\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(c.obj);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("scene.txt:3: ") != std::string::npos);
+        CHECK(r.output.find(c.where) != std::string::npos);
+        CHECK(r.output.find(c.what) != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+    // Negative indices count back from the last vertex defined: the same triangle.
+    write_text(dir + "/good.obj", triangle + "f -3 -2 -1\n");
+    write_text(dir + "/scene.txt", "size 16 16\nmesh good.obj\n");
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}
+
+TEST_CASE("an OBJ usemtl name ends at a tab or a comment") {
+    const std::string dir = scratch_folder("usemtl-tab");
+    write_text(dir + "/t.mtl", "newmtl green\nKd 0 1 0\n");
+    write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nv 1 1 0\nusemtl green\t\nf 1 2 3\nusemtl red # paint\nf 2 4 3\n");
+    write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 3\nmaterial red color 1 0 0\nmesh t.obj\n");
+    RunResult r = run_texr("explain " + dir + "/scene.txt 2 5");
+    CAPTURE(r.output);
+    CHECK(r.output.find("material 'green'") != std::string::npos);
+    r = run_texr("explain " + dir + "/scene.txt 5 2");
+    CAPTURE(r.output);
+    CHECK(r.output.find("material 'red'") != std::string::npos);
+}
+
+TEST_CASE("texr explain with --size or --span and no value says the value is missing") {
+    for (const char* option : {"--size", "--span"}) {
+        const RunResult r = run_texr("explain " + source_path("models/plane.scene") + " 1 2 " + option);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.find(std::string(option) + " needs a value") != std::string::npos);
+    }
+}

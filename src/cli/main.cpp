@@ -261,8 +261,9 @@ int run_explain(const std::vector<std::string>& argv) {
     std::vector<std::string> positional, options;
     for (std::size_t i = 0; i < argv.size(); ++i) {
         if (argv[i] == "--size" || argv[i] == "--span") {
+            if (i + 1 == argv.size()) throw UsageError{argv[i] + " needs a value (try texr explain --help)"};
             options.push_back(argv[i]);
-            if (i + 1 < argv.size()) options.push_back(argv[++i]);
+            options.push_back(argv[++i]);
         } else if (!argv[i].empty() && argv[i][0] == '-' && !(argv[i].size() > 1 && std::isdigit(static_cast<unsigned char>(argv[i][1])))) {
             throw UsageError{"unknown option '" + argv[i] + "' for 'texr explain'"};
         } else {

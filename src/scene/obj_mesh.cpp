@@ -3,10 +3,12 @@
 
 #include <tiny_obj_loader.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
@@ -28,41 +30,97 @@ std::string first_line(const std::string& text) {
     return end == std::string::npos ? text : text.substr(0, end);
 }
 
-// The `usemtl` name in force for each triangle, in file order (a face of k vertices is k - 2
-// triangles, as tinyobjloader triangulates it), as an index into `names`. Lines are split by
-// hand: a string stream per line made this pass slower than tinyobjloader's own parse.
+// What texr reads of an OBJ file itself, line by line, before tinyobjloader parses it:
+//  - every v, vt and vn line must hold numbers only (3 for v and vn, at least one for vt;
+//    v may carry a w or a colour), finite ones; tinyobjloader reads "x" or a missing
+//    coordinate as 0 without a word;
+//  - every face corner must name a position (and any vt or vn) defined above it (negative
+//    indices count back from there); tinyobjloader skips a quad with a bad index, with only
+//    a warning, which would also shift every later face's material;
+//  - the `usemtl` name in force for each triangle, in file order (a face of k vertices is
+//    k - 2 triangles, as tinyobjloader triangulates it), as an index into `names`: the name
+//    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader).
+// A bad line throws InputError with the OBJ file and line. Lines are split by hand: a string
+// stream per line made this pass slower than tinyobjloader's own parse.
 struct UsemtlNames {
     std::vector<std::string> names{std::string()};  // names[0]: before any usemtl
     std::vector<std::uint32_t> per_triangle;
 };
 
-UsemtlNames usemtl_per_triangle(const std::string& path) {
+// The number in `word` (all of it), or nullopt.
+std::optional<double> number_in(std::string_view word) {
+    if (!word.empty() && word[0] == '+') word.remove_prefix(1);  // (from_chars takes no '+')
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+    return value;
+}
+
+// A face corner's index (1-based, or negative: counting back from the last one defined), or
+// nullopt if `word` is no whole number.
+std::optional<long long> index_in(std::string_view word) {
+    long long value = 0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+    return value;
+}
+
+UsemtlNames read_obj_lines(const std::string& path) {
     std::ifstream in(path);
     UsemtlNames out;
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
+    long long positions = 0, uvs = 0, normals = 0;  // defined so far
     const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
     std::string line;
-    while (std::getline(in, line)) {
+    for (int line_number = 1; std::getline(in, line); ++line_number) {
         std::size_t i = 0;
-        const auto skip_space = [&] { while (i < line.size() && space(line[i])) ++i; };
-        const auto next_word = [&] {  // the word at i, and i past it
-            skip_space();
+        const auto next_word = [&] {  // the word at i (none from a '#' on), and i past it
+            while (i < line.size() && space(line[i])) ++i;
             const std::size_t start = i;
             while (i < line.size() && !space(line[i])) ++i;
-            return std::string_view(line).substr(start, i - start);
+            const std::string_view word = std::string_view(line).substr(start, i - start);
+            return !word.empty() && word[0] == '#' ? std::string_view() : word;
         };
+        const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
         const std::string_view keyword = next_word();
-        if (keyword == "usemtl") {
-            skip_space();
-            if (i == line.size()) continue;  // no name: the material in force stays
-            std::string name = line.substr(i);
-            while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+        if (keyword == "v" || keyword == "vt" || keyword == "vn") {
+            int count = 0;
+            for (std::string_view word = next_word(); !word.empty(); word = next_word(), ++count) {
+                const std::optional<double> value = number_in(word);
+                if (!value) fail("expected a number after '" + std::string(keyword) + "', got '" + std::string(word) + "'");
+                if (!std::isfinite(*value)) fail("expected a finite number, got '" + std::string(word) + "'");
+            }
+            if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");
+            if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");
+            if (keyword == "vt" && count < 1) fail("a texture coordinate (vt) needs u (and v)");
+            (keyword == "v" ? positions : keyword == "vt" ? uvs : normals) += 1;
+        } else if (keyword == "usemtl") {
+            const std::string_view word = next_word();
+            if (word.empty()) continue;  // no name: the material in force stays
+            const std::string name(word);
             current = index_of.emplace(name, std::uint32_t(out.names.size())).first->second;
-            if (current == out.names.size()) out.names.push_back(std::move(name));
+            if (current == out.names.size()) out.names.push_back(name);
         } else if (keyword == "f") {
             std::size_t corners = 0;
-            for (std::string_view corner = next_word(); !corner.empty() && corner[0] != '#'; corner = next_word()) ++corners;
+            for (std::string_view corner = next_word(); !corner.empty(); corner = next_word(), ++corners) {
+                // v, v/vt, v//vn or v/vt/vn: each index within what is defined so far.
+                const long long defined[3] = {positions, uvs, normals};
+                const char* what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};
+                std::size_t start = 0;
+                for (int part = 0; part < 3 && start <= corner.size(); ++part) {
+                    const std::size_t slash = std::min(corner.find('/', start), corner.size());
+                    const std::string_view word = corner.substr(start, slash - start);
+                    start = slash + 1;
+                    if (word.empty() && part > 0) continue;  // v//vn, or no vt/vn at all
+                    const std::optional<long long> index = index_in(word);
+                    if (!index || *index == 0) fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got '" + std::string(corner) + "'");
+                    const long long resolved = *index > 0 ? *index : defined[part] + 1 + *index;
+                    if (resolved < 1 || resolved > defined[part])
+                        fail("face refers to a " + std::string(what[part]) + " that does not exist (" + std::string(word) + ")");
+                }
+            }
+            if (corners < 3) fail("a face (f) needs at least 3 corners");
             for (std::size_t k = 2; k < corners; ++k) out.per_triangle.push_back(current);
         }
     }
@@ -73,6 +131,7 @@ UsemtlNames usemtl_per_triangle(const std::string& path) {
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open OBJ file");
+    const UsemtlNames usemtl = read_obj_lines(path);  // (also refuses bad lines, naming them)
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
@@ -86,7 +145,6 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
 
     // Each triangle's material, by name: the name its face's `usemtl` gave, whether or not
     // a .mtl file describes it (tinyobjloader forgets names it found no .mtl entry for).
-    const UsemtlNames usemtl = usemtl_per_triangle(path);
     std::map<std::string, const tinyobj::material_t*> described;
     for (const tinyobj::material_t& m : obj_materials) described[m.name] = &m;
     std::map<std::string, int> material_of;  // name -> scene material index, resolved on first use
