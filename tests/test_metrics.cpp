@@ -58,4 +58,15 @@ TEST_CASE("bench targets: met at the threshold, missed past it or on NaN, counte
     CHECK(md.find("| a | first | 2 | c1 | yes |") != std::string::npos);
     CHECK(md.find("| b | second | 2 | c2 | no |") != std::string::npos);
     CHECK(md.find("1 of 2 targets met") != std::string::npos);
+    // Not measured as the target asks: neither met nor missed, whatever the value.
+    Target small = at_least("scale", "third", "c3", 20.0, 10.0, "", 0);
+    measured_as_asked(small, false, "the target is for 1M triangles");
+    CHECK_FALSE(small.met);
+    CHECK(std::string(target_status(small)) == "n/a");
+    Target asked = at_least("scale", "fourth", "c4", 20.0, 10.0, "", 0);
+    measured_as_asked(asked, true, "unused");
+    CHECK(std::string(target_status(asked)) == "met");
+    const std::string md2 = targets_markdown({small, asked});
+    CHECK(md2.find("| scale | third | 20 | c3 | not measured: the target is for 1M triangles |") != std::string::npos);
+    CHECK(md2.find("1 of 2 targets met (1 not measured as the issues ask)") != std::string::npos);
 }

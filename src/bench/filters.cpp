@@ -118,12 +118,18 @@ std::vector<Target> filters_targets(const BenchOptions& o, const std::vector<Fil
     const FilterRow bilinear = plane("bilinear"), trilinear = plane("trilinear"), ewa = plane("ewa");
     const std::string conditions = conditions_of(o.width, o.height, o.threads);
     const std::string truth = ", against " + std::to_string(o.spp) + "x" + std::to_string(o.spp) + " supersampling";
-    return {at_least("filters", "plane, bilinear: >= 120 covered Mpx/s", conditions, bilinear.mpix_per_s, 120.0, "Mpx/s", 1),
-            at_least("filters", "plane, trilinear: >= 70 covered Mpx/s", conditions, trilinear.mpix_per_s, 70.0, "Mpx/s", 1),
-            at_least("filters", "plane, trilinear: PSNR >= 29.5 dB", conditions + truth, trilinear.psnr_db, 29.5, "dB", 2),
-            at_least("filters", "plane, EWA: PSNR >= 35 dB", conditions + truth, ewa.psnr_db, 35.0, "dB", 2),
-            at_most("filters", "plane, EWA: frame time <= 8x trilinear's", conditions, ewa.frame_ms / trilinear.frame_ms, 8.0,
-                    "x (" + fixed(ewa.frame_ms, 1) + " / " + fixed(trilinear.frame_ms, 1) + " ms)", 2)};
+    std::vector<Target> targets = {
+        at_least("filters", "plane, bilinear: >= 120 covered Mpx/s", conditions, bilinear.mpix_per_s, 120.0, "Mpx/s", 1),
+        at_least("filters", "plane, trilinear: >= 70 covered Mpx/s", conditions, trilinear.mpix_per_s, 70.0, "Mpx/s", 1),
+        at_least("filters", "plane, trilinear: PSNR >= 29.5 dB", conditions + truth, trilinear.psnr_db, 29.5, "dB", 2),
+        at_least("filters", "plane, EWA: PSNR >= 35 dB", conditions + truth, ewa.psnr_db, 35.0, "dB", 2),
+        at_most("filters", "plane, EWA: frame time <= 8x trilinear's", conditions, ewa.frame_ms / trilinear.frame_ms, 8.0,
+                "x (" + fixed(ewa.frame_ms, 1) + " / " + fixed(trilinear.frame_ms, 1) + " ms)", 2)};
+    // The issue measures them at 1024x768 on one core, against 16x16 supersampling.
+    for (Target& t : targets)
+        measured_as_asked(t, o.width == 1024 && o.height == 768 && o.threads == 1 && o.spp == 16,
+                          "the target is for 1024x768 on 1 thread against 16x16 supersampling");
+    return targets;
 }
 
 }  // namespace

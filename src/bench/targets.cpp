@@ -21,7 +21,7 @@ Target checked(std::string benchmark, std::string goal, std::string conditions, 
         measured = buffer;
     }
     if (!unit.empty()) measured += (unit[0] == 'x' ? "" : " ") + unit;  // "1.25x", "59.8 Mpx/s"
-    return {std::move(benchmark), std::move(goal), std::move(conditions), measured, met};
+    return {std::move(benchmark), std::move(goal), std::move(conditions), measured, met, {}};
 }
 
 }  // namespace
@@ -36,6 +36,14 @@ Target at_most(std::string benchmark, std::string goal, std::string conditions, 
     return checked(std::move(benchmark), std::move(goal), std::move(conditions), value, unit, digits, value <= threshold);
 }
 
+void measured_as_asked(Target& t, bool as_asked, const std::string& why) {
+    if (as_asked) return;
+    t.met = false;
+    t.not_measured = why;
+}
+
+const char* target_status(const Target& t) { return t.met ? "met" : t.not_measured.empty() ? "no" : "n/a"; }
+
 int targets_met(const std::vector<Target>& targets) {
     int met = 0;
     for (const Target& t : targets) met += t.met ? 1 : 0;
@@ -44,10 +52,15 @@ int targets_met(const std::vector<Target>& targets) {
 
 std::string targets_markdown(const std::vector<Target>& targets) {
     std::string md = "| benchmark | target | measured in this run | conditions | met |\n|---|---|---:|---|---|\n";
-    for (const Target& t : targets)
-        md += "| " + t.benchmark + " | " + t.goal + " | " + t.measured + " | " + t.conditions + " | " + (t.met ? "yes" : "no") + " |\n";
-    md += "\n" + std::to_string(targets_met(targets)) + " of " + std::to_string(targets.size()) +
-          " targets met. Times depend on the machine and on what else runs on it; the targets are the issues' "
+    int not_measured = 0;
+    for (const Target& t : targets) {
+        const std::string met = t.met ? "yes" : t.not_measured.empty() ? "no" : "not measured: " + t.not_measured;
+        md += "| " + t.benchmark + " | " + t.goal + " | " + t.measured + " | " + t.conditions + " | " + met + " |\n";
+        not_measured += t.not_measured.empty() ? 0 : 1;
+    }
+    md += "\n" + std::to_string(targets_met(targets)) + " of " + std::to_string(targets.size()) + " targets met";
+    if (not_measured > 0) md += " (" + std::to_string(not_measured) + " not measured as the issues ask)";
+    md += ". Times depend on the machine and on what else runs on it; the targets are the issues' "
           "(1024x768 frames; filters on 1 thread, threads on 2).\n";
     return md;
 }
