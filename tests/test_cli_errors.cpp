@@ -87,7 +87,7 @@ TEST_CASE("an OBJ without UVs under a textured material is refused with a clear 
     CAPTURE(r.output);
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("scene.txt:3: ") != std::string::npos);
-    CHECK(r.output.find("has no texture coordinates") != std::string::npos);
+    CHECK(r.output.find("has faces without texture coordinates") != std::string::npos);
     CHECK_FALSE(file_exists(dir + "/out.png"));
     // Without a texture the same OBJ renders.
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh tri.obj\n");
@@ -348,4 +348,27 @@ TEST_CASE("texr explain with --size or --span and no value says the value is mis
         CHECK(r.exit_code == 2);
         CHECK(r.output.find(std::string(option) + " needs a value") != std::string::npos);
     }
+}
+
+TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default grey; a later scene material of its name is refused clearly") {
+    const std::string dir = scratch_folder("usemtl-undescribed");
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+    write_text(dir + "/plain.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
+    // The centre pixel of each: the same light grey (sRGB 0.8: byte 204) with or without usemtl.
+    for (const char* obj : {"t.obj", "plain.obj"}) {
+        write_text(dir + "/scene.txt", std::string("size 9 9\ncamera eye 0 0 3\nmesh ") + obj + "\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.ppm");
+        REQUIRE(r.exit_code == 0);
+        std::ifstream in(dir + "/out.ppm", std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::size_t pixels = bytes.size() - 9 * 9 * 3, centre = pixels + (4 * 9 + 4) * 3;
+        CAPTURE(obj);
+        CHECK(int(std::uint8_t(bytes[centre])) == 204);
+        CHECK(int(std::uint8_t(bytes[centre + 2])) == 204);
+    }
+    write_text(dir + "/scene.txt", "mesh t.obj\nmaterial paint color 1 0 0\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:2: material 'paint' is already defined: line 1's OBJ file uses it") != std::string::npos);
 }

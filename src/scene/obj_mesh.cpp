@@ -156,6 +156,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         auto found = described.find(name);
         if (!name.empty() && found != described.end()) {
             const tinyobj::material_t& m = *found->second;
+            info.described = true;
             info.diffuse = {float(m.diffuse[0]), float(m.diffuse[1]), float(m.diffuse[2])};
             if (!m.diffuse_texname.empty())  // relative to the OBJ's folder unless absolute
                 info.diffuse_texture = m.diffuse_texname[0] == '/' ? m.diffuse_texname : folder_of(path) + m.diffuse_texname;

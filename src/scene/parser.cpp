@@ -275,7 +275,13 @@ private:
     void material(Cursor& c) {
         Material m;
         m.name = c.word("a material name");
-        if (material_index_.count(m.name)) c.fail("material '" + m.name + "' is defined twice");
+        if (material_index_.count(m.name)) {
+            const auto from_obj = material_from_obj_.find(m.name);
+            if (from_obj != material_from_obj_.end())
+                c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
+                       "'s OBJ file uses it, and made it from its .mtl (define scene materials before the meshes that use them)");
+            c.fail("material '" + m.name + "' is defined twice");
+        }
         while (!c.done()) {
             const std::string key = c.word("a material option");
             if (key == "color") m.color = c.color("material colour");
@@ -320,7 +326,7 @@ private:
         if (default_material_ < 0) {
             Material m;
             m.name = "(default)";
-            m.color = Color(srgb_to_linear(0.8f));
+            m.color = default_color;
             default_material_ = int(scene_.materials.size());
             scene_.materials.push_back(m);
         }
@@ -363,7 +369,9 @@ private:
             if (it != material_index_.end()) return it->second;
             Material m;
             m.name = info.name;
-            m.color = info.diffuse;  // .mtl Kd: taken as linear reflectance
+            // .mtl Kd, taken as linear reflectance; a name no .mtl describes: the default grey
+            m.color = info.described ? info.diffuse : default_color;
+            material_from_obj_[m.name] = c.line_number();
             if (!info.diffuse_texture.empty()) {
                 Texture t;
                 t.name = info.name + ".map_Kd";
@@ -427,7 +435,7 @@ private:
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
             if (m.texture >= 0 && !mesh.has_uv)
-                c.fail(what + " has no texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
+                c.fail(what + " has faces without texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
                        scene_.textures[std::size_t(m.texture)].name + "'");
         }
         object.mesh = int(scene_.meshes.size());
@@ -453,9 +461,13 @@ private:
     const std::string& file_;
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
+    std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the mesh line
     std::map<std::string, std::shared_ptr<const Image>> images_;
     std::map<const Image*, std::shared_ptr<MipMap>> mipmaps_;
     int default_material_ = -1;
+    // The default material's colour (a light grey), also given to a usemtl name that neither
+    // the scene nor a .mtl file describes.
+    const Color default_color = Color(srgb_to_linear(0.8f));
 };
 
 }  // namespace

@@ -10,6 +10,7 @@ namespace texr {
 // Resolves an OBJ material (by its name and its .mtl data) to an index in Scene::materials.
 struct ObjMaterialInfo {
     std::string name;
+    bool described = false;  // a .mtl file describes it (diffuse and diffuse_texture are its)
     Color diffuse{1.0f};
     std::string diffuse_texture;  // map_Kd, as a path relative to the OBJ file's folder
 };
