@@ -114,7 +114,13 @@ TEST_CASE("an unwritable output path fails cleanly and leaves the previous file 
     CHECK(content == "previous frame");
     // And no temporary file is left beside it.
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
-    CHECK(std::system(("ls '" + dir + "' | grep -q texr-tmp").c_str()) != 0);
+    CHECK(std::system(("ls -a '" + dir + "' | grep -q texr-").c_str()) != 0);
+    // A file name of 250 characters (NAME_MAX is 255): the temporary name does not grow with it.
+    const std::string long_name = dir + "/" + std::string(246, 'f') + ".png";
+    r = run_texr("render " + dir + "/scene.txt -o " + long_name);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(file_exists(long_name));
 }
 
 TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
@@ -135,6 +141,16 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     CHECK(r.output.find("unknown option '--fast'") != std::string::npos);
     r = run_texr("render " + scene + " --repeat -3");
     CHECK(r.exit_code == 2);
+    r = run_texr("render " + scene + " --span-tolerance 2000");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("at most 1000") != std::string::npos);
+    // texr bench takes the same ranges as texr render.
+    for (const char* option : {"--threads 300", "--spp 65", "--threads 0"}) {
+        r = run_texr(std::string("bench filters --out ") + dir + "/bench " + option);
+        CAPTURE(option);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.find("expects a whole number from 1 to") != std::string::npos);
+    }
     r = run_texr("frobnicate");
     CHECK(r.exit_code == 2);
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.jpg");
@@ -168,6 +184,7 @@ TEST_CASE("--stats and --repeat report counters and a median frame time") {
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
     CHECK(r.output.find("median frame time") != std::string::npos);
+    for (const char* stage : {"time load", "time clear", "time vertex", "time raster", "time write"}) CHECK(r.output.find(stage) != std::string::npos);
     CHECK(r.output.find("triangles in       1") != std::string::npos);
     CHECK(r.output.find("pixels shaded") != std::string::npos);
     CHECK(r.output.find("material red") != std::string::npos);

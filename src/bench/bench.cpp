@@ -31,8 +31,9 @@ const char* bench_help =
     "options:\n"
     "  --size WxH      frame size (default 1024x768)\n"
     "  --repeat N      timed frames per measurement; the median is reported (default 7)\n"
-    "  --spp N         ground truth: N x N samples per pixel (default 16)\n"
-    "  --threads N     worker threads for the timed frames (default 1; scale: all cores)\n"
+    "  --spp N         ground truth: N x N samples per pixel, 1..64 (default 16)\n"
+    "  --threads N     worker threads for the timed frames, 1..256 (default 1; scale:\n"
+    "                  all cores)\n"
     "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
     "                  (default: this build's source models/)\n"
     "  --out DIR       output folder (default out/bench)\n"
@@ -43,7 +44,8 @@ const char* bench_help =
 
 namespace {
 
-int parse_int(const std::string& text, const std::string& option) {
+// A whole number in [1, max] (the same limits as texr render's: --threads 1..256, --spp 1..64).
+int parse_int(const std::string& text, const std::string& option, int max = 1000000000) {
     std::size_t used = 0;
     int v = 0;
     try {
@@ -51,7 +53,8 @@ int parse_int(const std::string& text, const std::string& option) {
     } catch (...) {
         used = 0;
     }
-    if (used != text.size() || v < 1) throw std::invalid_argument(option + " expects a positive whole number, got '" + text + "'");
+    if (used != text.size() || v < 1 || v > max)
+        throw std::invalid_argument(option + " expects a whole number from 1 to " + std::to_string(max) + ", got '" + text + "'");
     return v;
 }
 
@@ -76,8 +79,8 @@ int run_bench(const std::vector<std::string>& args) {
                 throw std::invalid_argument("--size is out of range (each side 1.." + std::to_string(max_image_side) +
                                             ", at most " + std::to_string(max_image_pixels) + " pixels)");
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
-        else if (a == "--threads") o.threads = parse_int(value(), "--threads"), o.threads_given = true;
-        else if (a == "--spp") o.spp = parse_int(value(), "--spp");
+        else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
+        else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64);
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
         else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192, o.quick = true;

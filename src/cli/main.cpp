@@ -168,7 +168,7 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
             char* end = nullptr;
             args.span_tolerance = std::strtod(text.c_str(), &end);
             if (text.empty() || *end != '\0' || !(args.span_tolerance > 0.0 && args.span_tolerance <= 1000.0))
-                throw UsageError{"--span-tolerance expects a positive number of texels, got '" + text + "'"};
+                throw UsageError{"--span-tolerance expects a number of texels above 0 and at most 1000, got '" + text + "'"};
         } else if (a == "--stats") args.stats = true;
         else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option '" + a + "' for 'texr render'"};
         else if (args.scene.empty()) args.scene = a;
@@ -202,6 +202,7 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     for (const texr::Material& m : scene.materials)
         std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
+    std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);
     std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);
     std::printf("time raster        %.3f ms  (clip, setup, spans, shading)\n", 1000.0 * s.seconds_raster / frames);
     std::printf("time write         %.3f ms\n", write_ms);

@@ -193,12 +193,13 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
                                              std::vector<PreparedBatch>(chunk_triangles / setup_batch)};
     std::atomic<std::size_t> next_batch[2] = {0, 0};  // the chunk's next batch of triangles to set up
     std::atomic<int> next_band[2] = {0, 0};           // a balanced chunk's next band to draw
-    double vertex_seconds = 0.0;
+    double clear_seconds = 0.0, vertex_seconds = 0.0;  // worker 0's
     const auto start = Clock::now();
     auto work = [&](int w) {
         const RowSet rows{w, workers};
         for (int y = rows.first_owned(0); y < height; y = rows.next_owned(y + RowSet::band_rows - 1))
             fb.clear_rows(y, std::min(height, y + RowSet::band_rows), scene.background);
+        if (w == 0) clear_seconds = seconds_since(start);
         const auto share = [&](std::size_t first, std::size_t last, int k) { return first + (last - first) * std::size_t(k) / std::size_t(workers); };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             const Mesh& mesh = scene.meshes[std::size_t(scene.objects[i].mesh)];
@@ -272,7 +273,8 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     for (const std::exception_ptr& e : failures)
         if (e) std::rethrow_exception(e);
     for (const WorkerSlot& slot : slots) stats.add_counters(slot.counts);
-    stats.seconds_vertex += vertex_seconds;
+    stats.seconds_clear += clear_seconds;
+    stats.seconds_vertex += vertex_seconds - clear_seconds;
     stats.seconds_raster += seconds_since(start) - vertex_seconds;
     return fb;
 }

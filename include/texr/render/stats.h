@@ -14,6 +14,7 @@ struct RenderStats {
     std::uint64_t spans = 0;              // non-empty row spans walked
     std::uint64_t pixels_shaded = 0;      // fragments that passed the depth test
     std::uint64_t texels_fetched = 0;
+    double seconds_clear = 0.0;           // the frame's colour and depth set to "nothing here"
     double seconds_vertex = 0.0;          // object -> clip for every vertex
     double seconds_raster = 0.0;          // clipping, setup, span walk and shading
 
