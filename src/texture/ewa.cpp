@@ -144,10 +144,12 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // singular values. With J J^T = [[p, r], [r, q]]:
     //   major^2 = (p + q) / 2 + sqrt(((p - q) / 2)^2 + r^2),  minor = |det J| / major
     // (the product of the two is |det J|; so the minor axis needs no difference of nearly
-    // equal numbers), the major axis at angle theta = atan2(2 r, p - q) / 2.
+    // equal numbers), the major axis along an eigenvector of J J^T for major^2:
+    // (major^2 - q, r) or (r, major^2 - p), the longer of the two (no trigonometry).
     const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
     const double half_difference = 0.5 * (p - q);
-    const double major = std::sqrt(0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r));
+    const double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
+    const double major = std::sqrt(major2);
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
@@ -156,8 +158,10 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
     // reading an unbounded number of texels).
     if (!(minor * s.max_anisotropy >= major)) minor = major / s.max_anisotropy;
-    const double theta = 0.5 * std::atan2(2.0 * r, p - q);
-    const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
+    double eu = major2 - q, ev = r;
+    if (r * r + (major2 - p) * (major2 - p) > eu * eu + ev * ev) eu = r, ev = major2 - p;
+    const double length = std::sqrt(eu * eu + ev * ev);
+    const double cos_theta = length > 0.0 ? eu / length : 1.0, sin_theta = length > 0.0 ? ev / length : 0.0;  // (a circle: any)
     const double a1u = major * cos_theta, a1v = major * sin_theta;   // the major axis
     const double a2u = -minor * sin_theta, a2v = minor * cos_theta;  // the minor axis
     // Level where the minor axis spans about one texel, blended with the next one. A
