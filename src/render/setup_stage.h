@@ -35,12 +35,14 @@ bool finite(const glm::dvec4& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
 }
 
-// Object-space vertex data carried to clip space, per object.
+// Object-space vertex data carried to clip space, per object. (Sized per frame but not
+// cleared, FrameVector: transform writes every entry; clearing some 16 MB per frame for a
+// 500k-vertex mesh took a millisecond or two before the workers started.)
 struct TransformedMesh {
-    std::vector<glm::dvec4> clip;
+    FrameVector<glm::dvec4> clip;
     // Per vertex: clip_outcode's bits, and not_finite for a NaN or infinite coordinate.
-    std::vector<std::uint8_t> code;
-    std::vector<glm::dvec3> world, normal;  // filled only when a material needs them
+    FrameVector<std::uint8_t> code;
+    FrameVector<glm::dvec3> world, normal;  // filled only when a material needs them
     static constexpr std::uint8_t not_finite = 1 << 7;
 };
 
