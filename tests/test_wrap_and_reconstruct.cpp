@@ -318,3 +318,15 @@ TEST_CASE("bilinear's general path agrees with the short path just below texel b
             CHECK(sample_nearest(ldr, s, t, 0.5).x == sample_nearest(hdr, s, t, 0.5).x);
         }
 }
+
+TEST_CASE("a NaN coordinate with border wrap reads the border colour in both registrations, with clamp the first texel") {
+    const Image image = Image::hdr(3, 3, std::vector<float>(36, 0.25f));
+    const double nan = std::nan("");
+    for (Registration r : {Registration::cell, Registration::node})
+        for (Filter f : {Filter::nearest, Filter::bilinear}) {
+            CAPTURE(int(r));
+            CHECK(sample(image, sampler(f, Wrap::border, r), nan, 0.5).x == 9.0f);  // sampler()'s border colour
+            CHECK(sample(image, sampler(f, Wrap::border, r), 0.5, nan).x == 9.0f);
+            CHECK(sample(image, sampler(f, Wrap::clamp, r), nan, 0.5).x == 0.25f);
+        }
+}

@@ -99,7 +99,7 @@ inline double fast_floor(double x) { return double(floor_to_int64(x)); }
 // (Removing periods from x itself, in double, would round x + p for x just below 0 to the
 // precision of p, and could land on the next texel.) Repeat and mirror coordinates beyond
 // 1e15 texels, NaN included, carry no fraction any more and are read as 0; NaN reads as 0
-// for clamp and border too.
+// with clamp, and as outside the image with border (as node registration's border test).
 struct LatticePoint {
     std::int64_t whole;  // within [-2, n + 2] for clamp and border, [0, period) otherwise
     double fraction;
@@ -109,7 +109,7 @@ struct LatticePoint {
 // node registration divides by n - 1).
 inline LatticePoint split_lattice(Wrap mode, double x, int n, double inv_n, bool node = false) {
     if (mode == Wrap::clamp || mode == Wrap::border) {
-        if (!(x == x)) return {0, 0.0};
+        if (!(x == x)) return {mode == Wrap::border ? -2 : 0, 0.0};  // NaN: outside [0, 1] for border
         x = std::clamp(x, -2.0, double(n) + 2.0);
         const std::int64_t whole = floor_to_int64(x);
         return {whole, x - double(whole)};
