@@ -367,7 +367,7 @@ TEST_CASE("texr explain with --size or --span and no value says the value is mis
     }
 }
 
-TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default grey; a later scene material of its name is refused clearly") {
+TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default grey, and a later scene material of its name is refused clearly") {
     const std::string dir = scratch_folder("usemtl-undescribed");
     write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     write_text(dir + "/plain.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");

@@ -75,7 +75,7 @@ TEST_CASE("Catmull-Rom passes through the samples") {
         }
 }
 
-TEST_CASE("the cubic B-spline never overshoots; clamping removes Catmull-Rom's overshoot") {
+TEST_CASE("the cubic B-spline never overshoots, and clamping removes Catmull-Rom's overshoot") {
     // A hard step: 0 0 0 1 1 1 along u. Catmull-Rom rings next to it, below 0 and above 1.
     std::vector<float> rgba;
     for (int j = 0; j < 4; ++j)
@@ -311,10 +311,13 @@ TEST_CASE("footprint filters stay bounded and finite for huge, infinite and NaN 
     Sampler s;
     for (const UVDerivatives& d : {UVDerivatives{1e5, 0.0, 0.0, 1e5}, UVDerivatives{1e5, 3e4, -2e4, 7e4},
                                    UVDerivatives{inf, 0.0, 0.0, 1.0}, UVDerivatives{nan, nan, nan, nan},
-                                   UVDerivatives{1e300, 1e300, 1e300, 1e300}}) {
+                                   UVDerivatives{1e300, 1e300, 1e300, 1e300}, UVDerivatives{inf, 0.0, 0.0, inf},
+                                   UVDerivatives{1e200, 1e200, 0.0, 0.0}, UVDerivatives{1e160, 0.0, 0.0, 1e160}}) {
         int texels = 0, probes = 0;
         const Color4 e = sample_ewa(mip, s, 0.3, 0.6, d, texels);
         CHECK(texels <= 4);  // wider than the coarsest level: that level's average
+        if (!std::isnan(d.dudx))  // (all NaN: no footprint at all, read as a point)
+            for (int c = 0; c < 4; ++c) CHECK(e[c] == doctest::Approx(mip.level(mip.level_count() - 1).texel(0, 0)[c]));
         const Color4 a = sample_anisotropic(mip, s, 0.3, 0.6, d, probes);
         const double lambda = level_of_detail(d, 64, 64);
         const Color4 t = sample_trilinear(mip, s, 0.3, 0.6, lambda);

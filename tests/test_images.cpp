@@ -55,7 +55,7 @@ TEST_CASE("Radiance HDR loads as linear float, values above 1 kept") {
     CHECK(image.texel(1, 0).y == doctest::Approx(16.0f));
 }
 
-TEST_CASE("sRGB texels are decoded before filtering; data texels are not") {
+TEST_CASE("sRGB texels are decoded before filtering, data texels are not") {
     // Black and white side by side: halfway between them, linear filtering gives linear 0.5
     // (sRGB 188), not sRGB 128 (which would be linear 0.216).
     const std::vector<std::uint8_t> rgba = {0, 0, 0, 255, 255, 255, 255, 255};

@@ -18,7 +18,7 @@ FrameBytes noise(int w, int h, std::uint64_t seed) {
 }
 }  // namespace
 
-TEST_CASE("PSNR: identical is infinite; an error of one level everywhere is 10 log10(255^2) dB") {
+TEST_CASE("PSNR: identical is infinite, and an error of one level everywhere is 10 log10(255^2) dB") {
     const FrameBytes a = noise(16, 8, 1);
     const std::vector<bool> all(16 * 8, true);
     CHECK(std::isinf(psnr(a, a, all)));

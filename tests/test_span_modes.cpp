@@ -129,7 +129,7 @@ TEST_CASE("the adaptive span mode keeps its error bound, for several tolerances"
     CHECK(measure(SpanMode::adaptive, 0.25).divides <= measure(SpanMode::adaptive, 1.0 / 256.0).divides);
 }
 
-TEST_CASE("subdivided affine spans err less with shorter sub-spans; plain affine is wrong") {
+TEST_CASE("subdivided affine spans err less with shorter sub-spans, and plain affine is wrong") {
     const double e8 = measure(SpanMode::affine8).max, e16 = measure(SpanMode::affine16).max, e32 = measure(SpanMode::affine32).max;
     CHECK(e8 < e16);
     CHECK(e16 < e32);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "texr/texture/minify.h"
@@ -148,7 +149,10 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // (major^2 - q, r) or (r, major^2 - p), the longer of the two (no trigonometry).
     const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
     const double half_difference = 0.5 * (p - q);
-    const double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
+    double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
+    // With the NaN vectors zeroed, NaN here means an overflow (inf - inf or inf * 0 from a
+    // component beyond about 1e154 texels): a footprint beyond measure.
+    if (std::isnan(major2)) major2 = std::numeric_limits<double>::infinity();
     const double major = std::sqrt(major2);
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
