@@ -3,6 +3,7 @@
 
 #include <stb_image_write.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -63,10 +64,12 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
 
 void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes) {
     // A short hidden name in the same folder (so that rename replaces the file in one step),
-    // whatever the length of the file's own name.
+    // whatever the length of the file's own name; numbered, so that writes from several
+    // threads of one process never share one.
+    static std::atomic<unsigned> writes{0};
     const auto slash = path.find_last_of('/');
     const std::string folder = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-    const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + ".tmp";
+    const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (!file) throw InputError(path, 0, std::string("cannot write output file: ") + std::strerror(errno));
     const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();

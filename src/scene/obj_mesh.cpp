@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -34,9 +35,9 @@ std::string first_line(const std::string& text) {
 //  - every v, vt and vn line must hold numbers only (3 for v and vn, at least one for vt;
 //    v may carry a w or a colour), finite ones; tinyobjloader reads "x" or a missing
 //    coordinate as 0 without a word;
-//  - every face corner must name a position (and any vt or vn) defined above it (negative
-//    indices count back from there); tinyobjloader skips a quad with a bad index, with only
-//    a warning, which would also shift every later face's material;
+//  - every face corner must name a position (and any vt or vn) of the file (negative indices
+//    count back from the last one defined above the face); tinyobjloader skips a quad with a
+//    bad index, with only a warning, which would also shift every later face's material;
 //  - the `usemtl` name in force for each triangle, in file order (a face of k vertices is
 //    k - 2 triangles, as tinyobjloader triangulates it), as an index into `names`: the name
 //    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader).
@@ -47,12 +48,14 @@ struct UsemtlNames {
     std::vector<std::uint32_t> per_triangle;
 };
 
-// The number in `word` (all of it), or nullopt.
+// The number in `word` (all of it), or nullopt; beyond the range of a double, infinite (or 0).
 std::optional<double> number_in(std::string_view word) {
     if (!word.empty() && word[0] == '+') word.remove_prefix(1);  // (from_chars takes no '+')
     double value = 0.0;
     const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
-    if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+    if (end != word.data() + word.size()) return std::nullopt;
+    if (error == std::errc::result_out_of_range) return std::strtod(std::string(word).c_str(), nullptr);  // +-inf, or 0 or subnormal
+    if (error != std::errc()) return std::nullopt;
     return value;
 }
 
@@ -71,18 +74,26 @@ UsemtlNames read_obj_lines(const std::string& path) {
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
     long long positions = 0, uvs = 0, normals = 0;  // defined so far
+    struct Reference {  // a face's positive index past what is defined above it
+        long long index;
+        int part, line;
+    };
+    std::vector<Reference> ahead;  // checked against the whole file's counts at its end
+    const char* const what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};  // by part of a corner
     const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
     std::string line;
     for (int line_number = 1; std::getline(in, line); ++line_number) {
+        const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
+        if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0)  // (tinyobjloader would misread the first line)
+            fail("the file starts with a UTF-8 byte order mark: save it without one");
+        line.erase(std::min(line.size(), line.find('#')));  // a comment, with or without a space before it
         std::size_t i = 0;
-        const auto next_word = [&] {  // the word at i (none from a '#' on), and i past it
+        const auto next_word = [&] {  // the word at i, and i past it
             while (i < line.size() && space(line[i])) ++i;
             const std::size_t start = i;
             while (i < line.size() && !space(line[i])) ++i;
-            const std::string_view word = std::string_view(line).substr(start, i - start);
-            return !word.empty() && word[0] == '#' ? std::string_view() : word;
+            return std::string_view(line).substr(start, i - start);
         };
-        const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
         const std::string_view keyword = next_word();
         if (keyword == "v" || keyword == "vt" || keyword == "vn") {
             int count = 0;
@@ -106,7 +117,6 @@ UsemtlNames read_obj_lines(const std::string& path) {
             for (std::string_view corner = next_word(); !corner.empty(); corner = next_word(), ++corners) {
                 // v, v/vt, v//vn or v/vt/vn: each index within what is defined so far.
                 const long long defined[3] = {positions, uvs, normals};
-                const char* what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};
                 std::size_t start = 0;
                 for (int part = 0; part < 3 && start <= corner.size(); ++part) {
                     const std::size_t slash = std::min(corner.find('/', start), corner.size());
@@ -116,14 +126,18 @@ UsemtlNames read_obj_lines(const std::string& path) {
                     const std::optional<long long> index = index_in(word);
                     if (!index || *index == 0) fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got '" + std::string(corner) + "'");
                     const long long resolved = *index > 0 ? *index : defined[part] + 1 + *index;
-                    if (resolved < 1 || resolved > defined[part])
-                        fail("face refers to a " + std::string(what[part]) + " that does not exist (" + std::string(word) + ")");
+                    if (resolved < 1) fail("face refers to a " + std::string(what[part]) + " that does not exist (" + std::string(word) + ")");
+                    if (resolved > defined[part]) ahead.push_back({resolved, part, line_number});
                 }
             }
             if (corners < 3) fail("a face (f) needs at least 3 corners");
             for (std::size_t k = 2; k < corners; ++k) out.per_triangle.push_back(current);
         }
     }
+    const long long defined[3] = {positions, uvs, normals};
+    for (const Reference& r : ahead)
+        if (r.index > defined[r.part])
+            throw InputError(path, r.line, "face refers to a " + std::string(what[r.part]) + " that does not exist (" + std::to_string(r.index) + ")");
     return out;
 }
 
