@@ -388,11 +388,39 @@ TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0,
     }
 }
 
+namespace {
+
+// The principal semi-axes of the footprint ellipse {d1 cos t + d2 sin t} as vectors: its
+// longest radius, by a scan of t in [0, pi) and a golden-section search around the best
+// sample, and the radius a quarter turn of t away (the squared radius is
+// a + b cos 2(t - t0), so that one is the shortest). (The filters use a closed form.)
+std::pair<glm::dvec2, glm::dvec2> principal_axes_by_search(double d1u, double d1v, double d2u, double d2v) {
+    const auto at = [&](double t) { return glm::dvec2(d1u * std::cos(t) + d2u * std::sin(t), d1v * std::cos(t) + d2v * std::sin(t)); };
+    const auto radius2 = [&](double t) { return glm::dot(at(t), at(t)); };
+    double best = 0.0;
+    for (int k = 1; k < 3600; ++k)
+        if (radius2(M_PI * k / 3600) > radius2(best)) best = M_PI * k / 3600;
+    double lo = best - M_PI / 3600, hi = best + M_PI / 3600;
+    for (int k = 0; k < 100; ++k) {
+        const double m1 = hi - (hi - lo) * 0.618033988749895, m2 = lo + (hi - lo) * 0.618033988749895;
+        if (radius2(m1) < radius2(m2)) lo = m1;
+        else hi = m2;
+    }
+    const double t_major = 0.5 * (lo + hi);
+    return {at(t_major), at(t_major + M_PI / 2)};
+}
+
+}  // namespace
+
 TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the major axis") {
     // The probes, from the definition: n = ceil(min(major / minor, max anisotropy)) trilinear
-    // lookups at offsets (k + 1/2) / n - 1/2 of the major derivative vector, at level
-    // log2(major / n). Worked out here on the public trilinear lookup, against the filter's
-    // own loop (which reads the level views directly for this power-of-two 8-bit texture).
+    // lookups at offsets (k + 1/2) / n - 1/2 of the footprint's major axis (principal, in
+    // base texels), at level log2(major / n). Worked out here on the public trilinear lookup,
+    // against the filter's own loop (which reads the level views directly for this
+    // power-of-two 8-bit texture). The last two footprints are sheared: their major axis is
+    // neither derivative vector, and about 20 and 40 times their minor axis (16 probes),
+    // while the two derivative vectors' lengths differ by under 1% (the GL extension's rule,
+    // which takes those lengths for the axes, would make one probe).
     std::mt19937_64 rng(23);
     std::vector<std::uint8_t> rgba(64 * 64 * 4);
     for (auto& b : rgba) b = std::uint8_t(rng() % 256);
@@ -411,13 +439,15 @@ TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the m
     const MipMap mip(image);
     for (const UVDerivatives& d : {UVDerivatives{6.0 / 64, 1.0 / 64, -0.5 / 64, 1.5 / 64}, UVDerivatives{0.3 / 64, 0.0, 0.0, 9.0 / 64},
                                    UVDerivatives{40.0 / 64, 0.0, 0.0, 1.0 / 64}, UVDerivatives{0.2 / 64, 0.0, 0.0, 0.05 / 64},
-                                   UVDerivatives{2000.0 / 64, 0.0, 0.0, 300.0 / 64}}) {  // (the last beyond the 1x1 level)
+                                   UVDerivatives{2000.0 / 64, 0.0, 0.0, 300.0 / 64},  // (beyond the 1x1 level)
+                                   UVDerivatives{5.0 / 64, 0.0, 5.0 / 64, 0.5 / 64}, UVDerivatives{2.0 / 64, 2.0 / 64, 2.1 / 64, 1.9 / 64}}) {
+        const auto [a1, a2] = principal_axes_by_search(d.dudx * 64, d.dvdx * 64, d.dudy * 64, d.dvdy * 64);
+        const double major = glm::length(a1), minor = glm::length(a2);
+        const int n = int(std::ceil(std::min(major / minor, 16.0) - 1e-9));
+        const double au = a1.x / 64, av = a1.y / 64;
         for (double u : {0.3, -2.71, 1e6 + 0.1, 2e13 /* beyond 1e15 texels: the general path */}) {
             CAPTURE(u);
-            const double x_len = std::hypot(d.dudx * 64, d.dvdx * 64), y_len = std::hypot(d.dudy * 64, d.dvdy * 64);
-            const double major = std::max(x_len, y_len), minor = std::min(x_len, y_len);
-            const int n = int(std::ceil(std::min(major / minor, 16.0) - 1e-9));
-            const double au = x_len >= y_len ? d.dudx : d.dudy, av = x_len >= y_len ? d.dvdx : d.dvdy;
+            CAPTURE(n);
             Color4 expected(0.0f);
             for (int k = 0; k < n; ++k) {
                 const double t = (k + 0.5) / n - 0.5;
@@ -504,27 +534,8 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                     s.max_anisotropy = fp.max_anisotropy;
                     s.wrap_u = wrap_u, s.wrap_v = wrap_v, s.registration = registration;
                     s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
-                    // The radius at parameter t, squared; the longest radius by a scan of t in
-                    // [0, pi) and a golden-section search around the best sample; the shortest is
-                    // a quarter turn of t away (the radius^2 is a + b cos 2(t - t0)).
-                    const auto radius2 = [&](double t) {
-                        const double x = fp.d1u * std::cos(t) + fp.d2u * std::sin(t), y = fp.d1v * std::cos(t) + fp.d2v * std::sin(t);
-                        return x * x + y * y;
-                    };
-                    double best = 0.0;
-                    for (int k = 1; k < 3600; ++k)
-                        if (radius2(M_PI * k / 3600) > radius2(best)) best = M_PI * k / 3600;
-                    double lo = best - M_PI / 3600, hi = best + M_PI / 3600;
-                    for (int k = 0; k < 100; ++k) {
-                        const double m1 = hi - (hi - lo) * 0.618033988749895, m2 = lo + (hi - lo) * 0.618033988749895;
-                        if (radius2(m1) < radius2(m2)) lo = m1;
-                        else hi = m2;
-                    }
-                    const double t_major = 0.5 * (lo + hi), t_minor = t_major + M_PI / 2;
-                    double d1u = fp.d1u * std::cos(t_major) + fp.d2u * std::sin(t_major);
-                    double d1v = fp.d1v * std::cos(t_major) + fp.d2v * std::sin(t_major);
-                    double d2u = fp.d1u * std::cos(t_minor) + fp.d2u * std::sin(t_minor);
-                    double d2v = fp.d1v * std::cos(t_minor) + fp.d2v * std::sin(t_minor);
+                    const auto [axis1, axis2] = principal_axes_by_search(fp.d1u, fp.d1v, fp.d2u, fp.d2v);
+                    double d1u = axis1.x, d1v = axis1.y, d2u = axis2.x, d2v = axis2.y;
                     const double major = std::hypot(d1u, d1v);
                     double minor = std::hypot(d2u, d2v);
                     if (minor * fp.max_anisotropy < major) {

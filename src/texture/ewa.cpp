@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "texr/texture/minify.h"
@@ -139,35 +138,19 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // footprint.
     if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
     if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
-    // Compute the ellipse's principal axes. d1 and d2 are conjugate diameters of the
-    // footprint ellipse, not its axes (they are the axes only when perpendicular): the
-    // ellipse is the image of the unit circle under J = [d1 d2], whose semi-axes are J's
-    // singular values. With J J^T = [[p, r], [r, q]]:
-    //   major^2 = (p + q) / 2 + sqrt(((p - q) / 2)^2 + r^2),  minor = |det J| / major
-    // (the product of the two is |det J|; so the minor axis needs no difference of nearly
-    // equal numbers), the major axis along an eigenvector of J J^T for major^2:
-    // (major^2 - q, r) or (r, major^2 - p), the longer of the two (no trigonometry).
-    const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
-    const double half_difference = 0.5 * (p - q);
-    double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
-    // With the NaN vectors zeroed, NaN here means an overflow (inf - inf or inf * 0 from a
-    // component beyond about 1e154 texels): a footprint beyond measure.
-    if (std::isnan(major2)) major2 = std::numeric_limits<double>::infinity();
-    const double major = std::sqrt(major2);
+    // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
+    const FootprintAxes axes = footprint_axes(d1u, d1v, d2u, d2v);
+    const double major = axes.major;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
-    double minor = std::fabs(d1u * d2v - d2u * d1v) / major;
+    double minor = axes.minor;
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
     // reading an unbounded number of texels).
     if (!(minor * s.max_anisotropy >= major)) minor = major / s.max_anisotropy;
-    double eu = major2 - q, ev = r;
-    if (r * r + (major2 - p) * (major2 - p) > eu * eu + ev * ev) eu = r, ev = major2 - p;
-    const double length = std::sqrt(eu * eu + ev * ev);
-    const double cos_theta = length > 0.0 ? eu / length : 1.0, sin_theta = length > 0.0 ? ev / length : 0.0;  // (a circle: any)
-    const double a1u = major * cos_theta, a1v = major * sin_theta;   // the major axis
-    const double a2u = -minor * sin_theta, a2v = minor * cos_theta;  // the minor axis
+    const double a1u = major * axes.major_u, a1v = major * axes.major_v;   // the major axis
+    const double a2u = -minor * axes.major_v, a2v = minor * axes.major_u;  // the minor axis
     // Level where the minor axis spans about one texel, blended with the next one. A
     // footprint wider than the coarsest level reads that level's average, as the ellipse
     // there would cover the whole image (and cost without bound).

@@ -3,15 +3,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
 
+FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
+    const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
+    const double half_difference = 0.5 * (p - q);
+    double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
+    // Without a NaN input, NaN here is an overflow (inf - inf or inf * 0 from a component
+    // beyond about 1e154): a footprint beyond measure.
+    const bool nan_input = std::isnan(d1u) || std::isnan(d1v) || std::isnan(d2u) || std::isnan(d2v);
+    if (std::isnan(major2) && !nan_input) major2 = std::numeric_limits<double>::infinity();
+    FootprintAxes axes;
+    axes.major = std::sqrt(major2);
+    axes.minor = axes.major > 0.0 ? std::min(axes.major, std::fabs(d1u * d2v - d2u * d1v) / axes.major) : 0.0;
+    double eu = major2 - q, ev = r;
+    if (r * r + (major2 - p) * (major2 - p) > eu * eu + ev * ev) eu = r, ev = major2 - p;
+    const double length = std::sqrt(eu * eu + ev * ev);
+    const bool direction = length > 0.0 && std::isfinite(length);  // (a circle: any direction)
+    axes.major_u = direction ? eu / length : 1.0;
+    axes.major_v = direction ? ev / length : 0.0;
+    return axes;
+}
+
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     const double w = mip.base().width(), h = mip.base().height();
-    const double rho_x = std::sqrt(minify_detail::squared_texels(d.dudx, d.dvdx, w, h)), rho_y = std::sqrt(minify_detail::squared_texels(d.dudy, d.dvdy, w, h));
-    const double major = std::max(rho_x, rho_y), minor = std::min(rho_x, rho_y);
+    const FootprintAxes axes = footprint_axes(d.dudx * w, d.dvdx * h, d.dudy * w, d.dvdy * h);
+    const double major = axes.major, minor = axes.minor;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         probes = 1;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
@@ -20,7 +41,7 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     const int n = std::max(1, int(std::ceil(std::min(ratio, double(s.max_anisotropy)) - 1e-9)));
     const double lambda = std::log2(major / n);
     // The major axis in texture coordinates.
-    const double axis_u = rho_x >= rho_y ? d.dudx : d.dudy, axis_v = rho_x >= rho_y ? d.dvdx : d.dvdy;
+    const double axis_u = major * axes.major_u / w, axis_v = major * axes.major_v / h;
     Color4 sum(0.0f);
     // The probes lie within half the major axis of (u, v): when the default sampler's short
     // path holds for that whole segment, every probe reads the level views directly

@@ -29,9 +29,24 @@ Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double 
 // the fraction of lambda.
 Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v, double lambda);  // defined below
 
+// The pixel's footprint ellipse {d1 cos t + d2 sin t}, d1 = (du/dx, dv/dx) and
+// d2 = (du/dy, dv/dy) in texels: its principal semi-axes. d1 and d2 are conjugate diameters
+// of the ellipse, its axes only when perpendicular (a footprint seen obliquely and rolled
+// has them nearly parallel). The axes are the singular values of J = [d1 d2]: with
+// J J^T = [[p, r], [r, q]],
+//   major^2 = (p + q) / 2 + sqrt(((p - q) / 2)^2 + r^2),  minor = |det J| / major
+// (their product is |det J|, so the minor axis needs no difference of nearly equal
+// numbers), the major axis along an eigenvector of J J^T for major^2: (major^2 - q, r) or
+// (r, major^2 - p), the longer of the two.
+struct FootprintAxes {
+    double major, minor;      // major >= minor >= 0; major is NaN for a NaN input, +inf beyond measure
+    double major_u, major_v;  // unit direction of the major axis (the minor one is perpendicular)
+};
+FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v);
+
 // Anisotropic: N = min(ceil(major / minor), max_anisotropy) trilinear probes spaced evenly
-// along the footprint's major axis, at lambda = log2(major / N), averaged. Returns the
-// number of probes through `probes`.
+// along the footprint's major axis (footprint_axes, in base-level texels), at
+// lambda = log2(major / N), averaged. Returns the number of probes through `probes`.
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes);
 
 // --- Definitions of the per-pixel parts: inline, so the span loop compiles them in place ---
