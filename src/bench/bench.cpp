@@ -113,8 +113,7 @@ int run_bench(const std::vector<std::string>& args) {
     for (const Target& t : targets)
         std::printf("target %-3s  %-62s %s%s\n", target_status(t), (t.benchmark + ": " + t.goal).c_str(), t.measured.c_str(),
                     t.not_measured.empty() ? "" : ("  (not measured: " + t.not_measured + ")").c_str());
-    std::size_t not_measured = 0;
-    for (const Target& t : targets) not_measured += t.not_measured.empty() ? 0 : 1;
+    const int not_measured = targets_not_measured(targets);
     std::printf("%d of %zu targets met%s (%s/targets.md)\nwrote %s/index.md\n", targets_met(targets), targets.size(),
                 not_measured ? (", " + std::to_string(not_measured) + " not measured as the issues ask").c_str() : "", o.out.c_str(),
                 o.out.c_str());

@@ -50,16 +50,20 @@ int targets_met(const std::vector<Target>& targets) {
     return met;
 }
 
+int targets_not_measured(const std::vector<Target>& targets) {
+    int count = 0;
+    for (const Target& t : targets) count += t.not_measured.empty() ? 0 : 1;
+    return count;
+}
+
 std::string targets_markdown(const std::vector<Target>& targets) {
     std::string md = "| benchmark | target | measured in this run | conditions | met |\n|---|---|---:|---|---|\n";
-    int not_measured = 0;
     for (const Target& t : targets) {
         const std::string met = t.met ? "yes" : t.not_measured.empty() ? "no" : "not measured: " + t.not_measured;
         md += "| " + t.benchmark + " | " + t.goal + " | " + t.measured + " | " + t.conditions + " | " + met + " |\n";
-        not_measured += t.not_measured.empty() ? 0 : 1;
     }
     md += "\n" + std::to_string(targets_met(targets)) + " of " + std::to_string(targets.size()) + " targets met";
-    if (not_measured > 0) md += " (" + std::to_string(not_measured) + " not measured as the issues ask)";
+    if (const int not_measured = targets_not_measured(targets)) md += " (" + std::to_string(not_measured) + " not measured as the issues ask)";
     md += ". Times depend on the machine and on what else runs on it; the targets are the issues' "
           "(1024x768 frames; filters on 1 thread, threads on 2).\n";
     return md;

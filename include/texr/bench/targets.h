@@ -31,6 +31,7 @@ void measured_as_asked(Target& t, bool as_asked, const std::string& why);
 const char* target_status(const Target& t);
 
 int targets_met(const std::vector<Target>& targets);
+int targets_not_measured(const std::vector<Target>& targets);
 // A Markdown table of the targets and a line counting those met.
 std::string targets_markdown(const std::vector<Target>& targets);
 
