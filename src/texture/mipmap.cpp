@@ -126,7 +126,7 @@ Image downsample(const Image& source) {
             const float weight = fy.weight[std::size_t(j) * stride + std::size_t(k)];
             const float* __restrict r = reducer.row(fy.first[std::size_t(j)] + k);
             float* __restrict out = out_row.data();
-            for (std::size_t i = 0; i < out_row.size(); i += 4) {  // (written out: the compiler does the 4 at once)
+            for (std::size_t i = 0; i < out_row.size(); i += 4) {  // (written out: -O3 does the 4 at once)
                 out[i] += weight * r[i], out[i + 1] += weight * r[i + 1];
                 out[i + 2] += weight * r[i + 2], out[i + 3] += weight * r[i + 3];
             }
