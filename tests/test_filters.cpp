@@ -416,50 +416,82 @@ TEST_CASE("anisotropic filtering is the mean of its trilinear probes along the m
     // The probes, from the definition: n = ceil(min(major / minor, max anisotropy)) trilinear
     // lookups at offsets (k + 1/2) / n - 1/2 of the footprint's major axis (principal, in
     // base texels), at level log2(major / n). Worked out here on the public trilinear lookup,
-    // against the filter's own loop (which reads the level views directly for this
-    // power-of-two 8-bit texture). The last two footprints are sheared: their major axis is
-    // neither derivative vector, and about 20 and 40 times their minor axis (16 probes),
-    // while the two derivative vectors' lengths differ by under 1% (the GL extension's rule,
-    // which takes those lengths for the axes, would make one probe).
+    // against the filter's own loop (which reads the level views directly for these
+    // power-of-two 8-bit textures, one square and one 64x16, so that texels are not square in
+    // (u, v)). The last three footprints are sheared: their major axis is neither derivative
+    // vector, and about 10, 20 and 40 times their minor axis (11, 16 and 16 probes), while the
+    // two derivative vectors' lengths differ by 2% or less (the GL extension's rule, which
+    // takes those lengths for the axes, would make two probes).
     std::mt19937_64 rng(23);
-    std::vector<std::uint8_t> rgba(64 * 64 * 4);
-    for (auto& b : rgba) b = std::uint8_t(rng() % 256);
-    const auto image = std::make_shared<Image>(Image::ldr(64, 64, ColorSpace::srgb, rgba));
-    Sampler s;
-    s.filter = Filter::anisotropic;
-    s.max_anisotropy = 16;
-    REQUIRE(takes_short_path(*image, s));
-    {  // magnified: only the base level is read, and no level is built
-        const MipMap mip(image);
-        int probes = 0;
-        sample_anisotropic(mip, s, 0.3, 0.6, {0.2 / 64, 0.0, 0.0, 0.05 / 64}, probes);
-        CHECK(probes == 4);
-        CHECK_FALSE(mip.built());
-    }
-    const MipMap mip(image);
-    for (const UVDerivatives& d : {UVDerivatives{6.0 / 64, 1.0 / 64, -0.5 / 64, 1.5 / 64}, UVDerivatives{0.3 / 64, 0.0, 0.0, 9.0 / 64},
-                                   UVDerivatives{40.0 / 64, 0.0, 0.0, 1.0 / 64}, UVDerivatives{0.2 / 64, 0.0, 0.0, 0.05 / 64},
-                                   UVDerivatives{2000.0 / 64, 0.0, 0.0, 300.0 / 64},  // (beyond the 1x1 level)
-                                   UVDerivatives{5.0 / 64, 0.0, 5.0 / 64, 0.5 / 64}, UVDerivatives{2.0 / 64, 2.0 / 64, 2.1 / 64, 1.9 / 64}}) {
-        const auto [a1, a2] = principal_axes_by_search(d.dudx * 64, d.dvdx * 64, d.dudy * 64, d.dvdy * 64);
-        const double major = glm::length(a1), minor = glm::length(a2);
-        const int n = int(std::ceil(std::min(major / minor, 16.0) - 1e-9));
-        const double au = a1.x / 64, av = a1.y / 64;
-        for (double u : {0.3, -2.71, 1e6 + 0.1, 2e13 /* beyond 1e15 texels: the general path */}) {
-            CAPTURE(u);
-            CAPTURE(n);
-            Color4 expected(0.0f);
-            for (int k = 0; k < n; ++k) {
-                const double t = (k + 0.5) / n - 0.5;
-                expected += sample_trilinear(mip, s, u + t * au, 0.6 + t * av, std::log2(major / n));
-            }
-            expected *= 1.0f / float(n);
+    for (const int height : {64, 16}) {
+        std::vector<std::uint8_t> rgba(64 * std::size_t(height) * 4);
+        for (auto& b : rgba) b = std::uint8_t(rng() % 256);
+        const auto image = std::make_shared<Image>(Image::ldr(64, height, ColorSpace::srgb, rgba));
+        const double w = 64, h = height;
+        Sampler s;
+        s.filter = Filter::anisotropic;
+        s.max_anisotropy = 16;
+        REQUIRE(takes_short_path(*image, s));
+        {  // magnified: only the base level is read, and no level is built
+            const MipMap mip(image);
             int probes = 0;
-            const Color4 got = sample_anisotropic(mip, s, u, 0.6, d, probes);
-            CHECK(probes == n);
-            for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(1e-6));
+            sample_anisotropic(mip, s, 0.3, 0.6, {0.2 / w, 0.0, 0.0, 0.05 / h}, probes);
+            CHECK(probes == 4);
+            CHECK_FALSE(mip.built());
+        }
+        const MipMap mip(image);
+        struct Texels {
+            double d1u, d1v, d2u, d2v;  // the derivative vectors in base texels
+        };
+        for (const Texels& f : {Texels{6.0, 1.0, -0.5, 1.5}, Texels{0.3, 0.0, 0.0, 9.0}, Texels{40.0, 0.0, 0.0, 1.0},
+                                Texels{0.2, 0.0, 0.0, 0.05}, Texels{2000.0, 0.0, 0.0, 300.0} /* beyond the 1x1 level */,
+                                Texels{6.0, 0.0, 6.0, 1.2}, Texels{5.0, 0.0, 5.0, 0.5}, Texels{2.0, 2.0, 2.1, 1.9}}) {
+            const UVDerivatives d = {f.d1u / w, f.d1v / h, f.d2u / w, f.d2v / h};
+            const auto [a1, a2] = principal_axes_by_search(f.d1u, f.d1v, f.d2u, f.d2v);
+            const double major = glm::length(a1), minor = glm::length(a2);
+            const int n = int(std::ceil(std::min(major / minor, 16.0) - 1e-9));
+            const double au = a1.x / w, av = a1.y / h;
+            for (double u : {0.3, -2.71, 1e6 + 0.1, 2e13 /* beyond 1e15 texels: the general path */}) {
+                CAPTURE(height);
+                CAPTURE(u);
+                CAPTURE(n);
+                Color4 expected(0.0f);
+                for (int k = 0; k < n; ++k) {
+                    const double t = (k + 0.5) / n - 0.5;
+                    expected += sample_trilinear(mip, s, u + t * au, 0.6 + t * av, std::log2(major / n));
+                }
+                expected *= 1.0f / float(n);
+                int probes = 0;
+                const Color4 got = sample_anisotropic(mip, s, u, 0.6, d, probes);
+                CHECK(probes == n);
+                for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(1e-6));
+            }
         }
     }
+}
+
+TEST_CASE("footprint_axes: the principal axes of sheared, huge and tiny footprints") {
+    // Against the search of the ellipse's radii, for footprints of ordinary size; and, as
+    // scaling both vectors by k scales the axes by k, the same footprints scaled by 2^200 and
+    // 2^-200 (where squaring without rescaling would overflow or underflow) give the same
+    // axes times k.
+    for (const auto& [d1u, d1v, d2u, d2v] : {std::array<double, 4>{6.0, 1.0, -0.5, 1.5}, {6.0, 0.0, 6.0, 1.2}, {2.0, 2.0, 2.1, 1.9},
+                                              {0.0, 3.0, 2.0, 0.0}, {1.0, 2.0, 2.0, 4.0} /* parallel */}) {
+        const auto [a1, a2] = principal_axes_by_search(d1u, d1v, d2u, d2v);
+        for (const int e : {0, 200, -200, 1000, -1000}) {
+            CAPTURE(d1u);
+            CAPTURE(e);
+            const double k = std::ldexp(1.0, e);
+            const FootprintAxes axes = footprint_axes(d1u * k, d1v * k, d2u * k, d2v * k);
+            CHECK(axes.major / k == doctest::Approx(glm::length(a1)).epsilon(1e-9));
+            CHECK(axes.minor / k == doctest::Approx(glm::length(a2)).epsilon(1e-6));  // (a search near a flat minimum)
+            CHECK(std::fabs(axes.major_u * a1.x + axes.major_v * a1.y) == doctest::Approx(glm::length(a1)).epsilon(1e-9));
+        }
+    }
+    const double inf = std::numeric_limits<double>::infinity();
+    CHECK(std::isinf(footprint_axes(inf, 0.0, 0.0, 1.0).major));
+    CHECK(std::isnan(footprint_axes(std::nan(""), 0.0, 0.0, 1.0).major));
+    CHECK(footprint_axes(0.0, 0.0, 0.0, 0.0).major == 0.0);
 }
 
 namespace {

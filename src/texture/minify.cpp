@@ -10,22 +10,31 @@
 namespace texr {
 
 FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
+    FootprintAxes axes{0.0, 0.0, 1.0, 0.0};
+    if (std::isnan(d1u) || std::isnan(d1v) || std::isnan(d2u) || std::isnan(d2v)) {
+        axes.major = std::numeric_limits<double>::quiet_NaN();
+        return axes;
+    }
+    const double largest = std::max({std::fabs(d1u), std::fabs(d1v), std::fabs(d2u), std::fabs(d2v)});
+    if (!(largest > 0.0) || std::isinf(largest)) {  // a point, or a footprint beyond measure
+        axes.major = largest;
+        return axes;
+    }
+    // Scale by a power of two (exact) so the largest component is in [1, 2): the squares below
+    // neither overflow (from about 1e77 texels on) nor lose precision to underflow.
+    const int exponent = std::ilogb(largest);
+    d1u = std::ldexp(d1u, -exponent), d1v = std::ldexp(d1v, -exponent);
+    d2u = std::ldexp(d2u, -exponent), d2v = std::ldexp(d2v, -exponent);
     const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
     const double half_difference = 0.5 * (p - q);
-    double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
-    // Without a NaN input, NaN here is an overflow (inf - inf or inf * 0 from a component
-    // beyond about 1e154): a footprint beyond measure.
-    const bool nan_input = std::isnan(d1u) || std::isnan(d1v) || std::isnan(d2u) || std::isnan(d2v);
-    if (std::isnan(major2) && !nan_input) major2 = std::numeric_limits<double>::infinity();
-    FootprintAxes axes;
-    axes.major = std::sqrt(major2);
-    axes.minor = axes.major > 0.0 ? std::min(axes.major, std::fabs(d1u * d2v - d2u * d1v) / axes.major) : 0.0;
+    const double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
+    const double major = std::sqrt(major2);
+    axes.major = std::ldexp(major, exponent);
+    axes.minor = std::ldexp(std::min(major, std::fabs(d1u * d2v - d2u * d1v) / major), exponent);
     double eu = major2 - q, ev = r;
     if (r * r + (major2 - p) * (major2 - p) > eu * eu + ev * ev) eu = r, ev = major2 - p;
     const double length = std::sqrt(eu * eu + ev * ev);
-    const bool direction = length > 0.0 && std::isfinite(length);  // (a circle: any direction)
-    axes.major_u = direction ? eu / length : 1.0;
-    axes.major_v = direction ? ev / length : 0.0;
+    if (length > 0.0) axes.major_u = eu / length, axes.major_v = ev / length;  // (a circle: any direction)
     return axes;
 }
 

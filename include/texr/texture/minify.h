@@ -37,9 +37,10 @@ Color4 sample_trilinear(const MipMap& mip, const Sampler& s, double u, double v,
 //   major^2 = (p + q) / 2 + sqrt(((p - q) / 2)^2 + r^2),  minor = |det J| / major
 // (their product is |det J|, so the minor axis needs no difference of nearly equal
 // numbers), the major axis along an eigenvector of J J^T for major^2: (major^2 - q, r) or
-// (r, major^2 - p), the longer of the two.
+// (r, major^2 - p), the longer of the two. (Worked out on the vectors scaled by a power of
+// two, so the squares neither overflow nor underflow.)
 struct FootprintAxes {
-    double major, minor;      // major >= minor >= 0; major is NaN for a NaN input, +inf beyond measure
+    double major, minor;      // major >= minor >= 0; major is NaN for a NaN input, +inf for an infinite one
     double major_u, major_v;  // unit direction of the major axis (the minor one is perpendicular)
 };
 FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v);
