@@ -3,11 +3,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "texr/texture/reconstruct.h"
 
 namespace texr {
+
+namespace {
+
+// 2^k for k in [-1022, 1023], built from its bits.
+double power_of_two(int k) {
+    const std::uint64_t bits = std::uint64_t(k + 1023) << 52;
+    double value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+}
+
+}  // namespace
 
 FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
     FootprintAxes axes{0.0, 0.0, 1.0, 0.0};
@@ -20,17 +34,21 @@ FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
         axes.major = largest;
         return axes;
     }
-    // Scale by a power of two (exact) so the largest component is in [1, 2): the squares below
-    // neither overflow (from about 1e77 texels on) nor lose precision to underflow.
-    const int exponent = std::ilogb(largest);
-    d1u = std::ldexp(d1u, -exponent), d1v = std::ldexp(d1v, -exponent);
-    d2u = std::ldexp(d2u, -exponent), d2v = std::ldexp(d2v, -exponent);
+    // Scale by a power of two (exact) so the largest component is about 1: the squares below
+    // neither overflow (from about 1e77 texels on) nor lose precision to underflow. The
+    // exponent is read from the bits (std::ilogb and std::ldexp are library calls, 15% of an
+    // anisotropic frame); a subnormal reads as 2^-1022, which scales it to at least 2^-52.
+    std::uint64_t bits;
+    std::memcpy(&bits, &largest, sizeof bits);
+    const int exponent = std::clamp(int((bits >> 52) & 0x7ff) - 1023, -1022, 1022);
+    const double down = power_of_two(-exponent), up = power_of_two(exponent);
+    d1u *= down, d1v *= down, d2u *= down, d2v *= down;
     const double p = d1u * d1u + d2u * d2u, q = d1v * d1v + d2v * d2v, r = d1u * d1v + d2u * d2v;
     const double half_difference = 0.5 * (p - q);
     const double major2 = 0.5 * (p + q) + std::sqrt(half_difference * half_difference + r * r);
     const double major = std::sqrt(major2);
-    axes.major = std::ldexp(major, exponent);
-    axes.minor = std::ldexp(std::min(major, std::fabs(d1u * d2v - d2u * d1v) / major), exponent);
+    axes.major = major * up;
+    axes.minor = std::min(major, std::fabs(d1u * d2v - d2u * d1v) / major) * up;
     double eu = major2 - q, ev = r;
     if (r * r + (major2 - p) * (major2 - p) > eu * eu + ev * ev) eu = r, ev = major2 - p;
     const double length = std::sqrt(eu * eu + ev * ev);
