@@ -115,7 +115,8 @@ UsemtlNames read_obj_lines(const std::string& path) {
         } else if (keyword == "f") {
             std::size_t corners = 0;
             for (std::string_view corner = next_word(); !corner.empty(); corner = next_word(), ++corners) {
-                // v, v/vt, v//vn or v/vt/vn: each index within what is defined so far.
+                // v, v/vt, v//vn or v/vt/vn: a negative index counts back from what is defined
+                // so far; a positive one past that is checked against the whole file at its end.
                 const long long defined[3] = {positions, uvs, normals};
                 std::size_t start = 0;
                 for (int part = 0; part < 3 && start <= corner.size(); ++part) {
