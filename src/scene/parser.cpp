@@ -279,7 +279,7 @@ private:
             const auto from_obj = material_from_obj_.find(m.name);
             if (from_obj != material_from_obj_.end())
                 c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
-                       "'s OBJ file uses it, and made it from its .mtl (define scene materials before the meshes that use them)");
+                       "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
             c.fail("material '" + m.name + "' is defined twice");
         }
         while (!c.done()) {
