@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
@@ -40,13 +41,30 @@ std::string first_line(const std::string& text) {
 //    bad index, with only a warning, which would also shift every later face's material;
 //  - the `usemtl` name in force for each triangle, in file order (a face of k vertices is
 //    k - 2 triangles, as tinyobjloader triangulates it), as an index into `names`: the name
-//    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader).
+//    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader);
+//  - whether tinyobjloader needs the file's text without its comments (it takes the '#' of
+//    'f 1 2 3 # a comment' for an index) and without a UTF-8 byte order mark (which it
+//    would read as part of the first keyword): `clean`.
 // A bad line throws InputError with the OBJ file and line. Lines are split by hand: a string
 // stream per line made this pass slower than tinyobjloader's own parse.
-struct UsemtlNames {
+struct ObjLines {
     std::vector<std::string> names{std::string()};  // names[0]: before any usemtl
     std::vector<std::uint32_t> per_triangle;
+    bool clean = false;
 };
+
+// The file's lines without their comments and byte order mark, one line for each line of the
+// file (so tinyobjloader's line numbers stay right).
+std::string text_without_comments(const std::string& path) {
+    std::ifstream in(path);
+    std::string text, line;
+    for (bool first = true; std::getline(in, line); first = false) {
+        if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+        text.append(line, 0, line.find('#'));
+        text += '\n';
+    }
+    return text;
+}
 
 // The number in `word` (all of it), or nullopt; beyond the range of a double, infinite (or 0).
 std::optional<double> number_in(std::string_view word) {
@@ -68,9 +86,9 @@ std::optional<long long> index_in(std::string_view word) {
     return value;
 }
 
-UsemtlNames read_obj_lines(const std::string& path) {
+ObjLines read_obj_lines(const std::string& path) {
     std::ifstream in(path);
-    UsemtlNames out;
+    ObjLines out;
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
     long long positions = 0, uvs = 0, normals = 0;  // defined so far
@@ -84,9 +102,12 @@ UsemtlNames read_obj_lines(const std::string& path) {
     std::string line;
     for (int line_number = 1; std::getline(in, line); ++line_number) {
         const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
-        if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0)  // (tinyobjloader would misread the first line)
-            fail("the file starts with a UTF-8 byte order mark: save it without one");
-        line.erase(std::min(line.size(), line.find('#')));  // a comment, with or without a space before it
+        if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3), out.clean = true;  // a byte order mark
+        const std::size_t comment = line.find('#');  // (with or without a space before it)
+        if (comment != std::string::npos) {
+            out.clean = out.clean || line.find_first_not_of(" \t") < comment;  // after something
+            line.erase(comment);
+        }
         std::size_t i = 0;
         const auto next_word = [&] {  // the word at i, and i past it
             while (i < line.size() && space(line[i])) ++i;
@@ -146,17 +167,19 @@ UsemtlNames read_obj_lines(const std::string& path) {
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open OBJ file");
-    const UsemtlNames usemtl = read_obj_lines(path);  // (also refuses bad lines, naming them)
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = folder_of(path);
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, config))
-        throw InputError(path, 0, "not a readable OBJ file: " + first_line(reader.Error()));
-
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
-    const auto& obj_materials = reader.GetMaterials();
+    const ObjLines usemtl = read_obj_lines(path);  // (also refuses bad lines, naming them)
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> obj_materials;
+    {
+        std::ifstream file(path);
+        std::istringstream cleaned(usemtl.clean ? text_without_comments(path) : std::string());
+        tinyobj::MaterialFileReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
+        std::string warning, error;
+        if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, usemtl.clean ? static_cast<std::istream*>(&cleaned) : &file,
+                              &mtl_files, /*triangulate=*/true, /*default_vcols_fallback=*/false))
+            throw InputError(path, 0, "not a readable OBJ file: " + first_line(error));
+    }
 
     // Each triangle's material, by name: the name its face's `usemtl` gave, whether or not
     // a .mtl file describes it (tinyobjloader forgets names it found no .mtl entry for).
@@ -183,7 +206,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
 
     std::vector<int> usemtl_material(usemtl.names.size(), -1);  // by name index, resolved on first use
     std::size_t total_triangles = 0;
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) total_triangles += shape.mesh.num_face_vertices.size();
+    for (const tinyobj::shape_t& shape : shapes) total_triangles += shape.mesh.num_face_vertices.size();
 
     Mesh mesh;
     mesh.source = path;
@@ -204,7 +227,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
             std::array<std::uint32_t, 3> triangle{};
