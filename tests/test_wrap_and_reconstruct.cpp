@@ -320,13 +320,17 @@ TEST_CASE("bilinear's general path agrees with the short path just below texel b
 }
 
 TEST_CASE("a NaN coordinate with border wrap reads the border colour in both registrations, with clamp the first texel") {
-    const Image image = Image::hdr(3, 3, std::vector<float>(36, 0.25f));
+    // Texel (i, j) holds i + 3 j. At v = 1/2 both registrations put the lattice exactly on row
+    // 1 (cell: 1.5 - 1/2; node: 1/2 (3 - 1)), and a NaN u reads column 0 with clamp: texel 3.
+    std::vector<float> texels;
+    for (int k = 0; k < 9; ++k) texels.insert(texels.end(), {float(k), float(k), float(k), 1.0f});
+    const Image image = Image::hdr(3, 3, texels);
     const double nan = std::nan("");
     for (Registration r : {Registration::cell, Registration::node})
         for (Filter f : {Filter::nearest, Filter::bilinear}) {
             CAPTURE(int(r));
             CHECK(sample(image, sampler(f, Wrap::border, r), nan, 0.5).x == 9.0f);  // sampler()'s border colour
             CHECK(sample(image, sampler(f, Wrap::border, r), 0.5, nan).x == 9.0f);
-            CHECK(sample(image, sampler(f, Wrap::clamp, r), nan, 0.5).x == 0.25f);
+            CHECK(sample(image, sampler(f, Wrap::clamp, r), nan, 0.5).x == 3.0f);
         }
 }

@@ -167,16 +167,16 @@ ObjLines read_obj_lines(const std::string& path) {
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open OBJ file");
-    const ObjLines usemtl = read_obj_lines(path);  // (also refuses bad lines, naming them)
+    const ObjLines lines = read_obj_lines(path);  // (also refuses bad lines, naming them)
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> obj_materials;
     {
         std::ifstream file(path);
-        std::istringstream cleaned(usemtl.clean ? text_without_comments(path) : std::string());
+        std::istringstream cleaned(lines.clean ? text_without_comments(path) : std::string());
         tinyobj::MaterialFileReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
         std::string warning, error;
-        if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, usemtl.clean ? static_cast<std::istream*>(&cleaned) : &file,
+        if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, lines.clean ? static_cast<std::istream*>(&cleaned) : &file,
                               &mtl_files, /*triangulate=*/true, /*default_vcols_fallback=*/false))
             throw InputError(path, 0, "not a readable OBJ file: " + first_line(error));
     }
@@ -204,7 +204,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         return index;
     };
 
-    std::vector<int> usemtl_material(usemtl.names.size(), -1);  // by name index, resolved on first use
+    std::vector<int> usemtl_material(lines.names.size(), -1);  // by name index, resolved on first use
     std::size_t total_triangles = 0;
     for (const tinyobj::shape_t& shape : shapes) total_triangles += shape.mesh.num_face_vertices.size();
 
@@ -264,9 +264,9 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             mesh.has_uv = mesh.has_uv && face_has_uv;
             mesh.has_normals = mesh.has_normals && face_has_normal;
             mesh.triangles.push_back(triangle);
-            if (usemtl.per_triangle.size() == total_triangles) {
-                const std::uint32_t n = usemtl.per_triangle[mesh.triangles.size() - 1];
-                if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(usemtl.names[n]);
+            if (lines.per_triangle.size() == total_triangles) {
+                const std::uint32_t n = lines.per_triangle[mesh.triangles.size() - 1];
+                if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
                 mesh.triangle_material.push_back(usemtl_material[n]);
             } else {  // faces we could not count the same way: fall back to tinyobjloader's ids
                 const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;

@@ -14,7 +14,7 @@ namespace texr {
 namespace {
 
 constexpr float gaussian_alpha = 2.0f;
-// The ellipse's axes are the derivative vectors times this factor. 1 is the classic choice
+// The ellipse is the one the derivative vectors span, times this factor. 1 is the classic choice
 // (an ellipse one pixel in radius: twice the pixel's own footprint, so the Gaussian blurs
 // more than the pixel's box); 0.5 is the pixel's footprint itself, which aliases at the
 // horizon. 0.7 scored best against the 16x16 box-filtered ground truth of texr bench
@@ -37,7 +37,8 @@ const std::array<float, weight_table_size>& gaussian_weights() {
 }
 
 // The weighted average over the ellipse at one level. (u, v) in [0, 1] texture space;
-// d1, d2 the derivative vectors in the same units.
+// d1, d2 two conjugate semi-diameters of the ellipse in the same units (sample_ewa passes its
+// principal axes; ewa.h's coefficients give the same ellipse for any conjugate pair).
 Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
                     double d2v, int& texels) {
     const int w = image.width(), h = image.height();
