@@ -149,6 +149,101 @@ TEST_CASE("each mip level keeps the base image's mean") {
     }
 }
 
+TEST_CASE("node-registered mip levels: every other node filtered 1/4, 1/2, 1/4, the ends read through the wrap mode") {
+    // 9 x 5 nodes (2^3 + 1 by 2^2 + 1): level 1 is 5 x 3, node (i, j) at source node (2i, 2j).
+    const Image base = random_hdr(9, 5, 21);
+    const Color4 border(0.25f, 0.5f, 0.75f, 1.0f);
+    // The source node k of n along an axis, as each wrap mode reads it (worked out from the
+    // modes' definitions: repeat every n - 1 nodes, mirror about the end nodes).
+    const auto wrapped = [](Wrap mode, int k, int n) {
+        if (k >= 0 && k < n) return k;
+        switch (mode) {
+            case Wrap::repeat: return k < 0 ? k + (n - 1) : k - (n - 1);
+            case Wrap::mirror: return k < 0 ? -k : 2 * (n - 1) - k;
+            case Wrap::clamp: return k < 0 ? 0 : n - 1;
+            case Wrap::border: return -1;
+        }
+        return 0;
+    };
+    const float tap[3] = {0.25f, 0.5f, 0.25f};
+    for (Wrap mode : {Wrap::repeat, Wrap::mirror, Wrap::clamp, Wrap::border}) {
+        CAPTURE(int(mode));
+        Sampler s;
+        s.registration = Registration::node;
+        s.wrap_u = s.wrap_v = mode;
+        s.border = border;
+        const MipMap mip(std::make_shared<Image>(base), s);
+        CHECK(mip.node_levels());
+        REQUIRE(mip.level_count() == 5);  // 9x5, 5x3, 3x2, 2x1, 1x1
+        const Image& level = mip.level(1);
+        REQUIRE(level.width() == 5);
+        REQUIRE(level.height() == 3);
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 5; ++i) {
+                Color4 want(0.0f);
+                for (int b = -1; b <= 1; ++b)
+                    for (int a = -1; a <= 1; ++a) {
+                        const int x = wrapped(mode, 2 * i + a, 9), y = wrapped(mode, 2 * j + b, 5);
+                        want += tap[a + 1] * tap[b + 1] * ((x < 0 || y < 0) ? border : base.texel(x, y));
+                    }
+                for (int c = 0; c < 4; ++c) CHECK(level.texel(i, j)[c] == doctest::Approx(want[c]).epsilon(1e-5));
+            }
+        // The last level holds the mean over the whole image, [0, 8] x [0, 4], of the linear
+        // interpolation between nodes: the trapezoid rule, end nodes at half weight.
+        Color4 mean(0.0f);
+        for (int j = 0; j < 5; ++j)
+            for (int i = 0; i < 9; ++i)
+                mean += ((i == 0 || i == 8) ? 0.5f : 1.0f) * ((j == 0 || j == 4) ? 0.5f : 1.0f) * base.texel(i, j);
+        mean = mean / 32.0f;
+        const Image& top = mip.level(4);
+        REQUIRE(top.width() == 1);
+        REQUIRE(top.height() == 1);
+        // (The levels between are filtered with the wrap mode too, which moves the mean a
+        // little except for repeat, where every level keeps the period's mean.)
+        if (mode == Wrap::repeat)
+            for (int c = 0; c < 4; ++c) CHECK(top.texel(0, 0)[c] == doctest::Approx(mean[c]).epsilon(1e-5));
+    }
+    // Cell registration keeps the box levels: 9 -> 4 -> 2 -> 1.
+    Sampler cell;
+    const MipMap boxes(std::make_shared<Image>(base), cell);
+    CHECK_FALSE(boxes.node_levels());
+    CHECK(boxes.level_count() == 4);
+    CHECK(boxes.level(1).width() == 4);
+}
+
+TEST_CASE("node registration's mip filters read a linear ramp where it is, on every level") {
+    // R = u and G = v at the nodes (u = i / (n - 1)): every node level holds the same ramp,
+    // and bilinear lookups of a ramp are exact, so trilinear returns (u, v) at any level of
+    // detail, away from the ends (where clamp flattens the ramp). Box levels read on the node
+    // lattice would be up to half a level's texel off: on level 1 of 16 texels, texel i
+    // averages nodes 2i and 2i + 1, (2i + 1/2) / 15, where the node lattice puts i / 7.
+    for (auto [w, h] : {std::pair{16, 12}, std::pair{17, 9}, std::pair{33, 20}}) {
+        CAPTURE(w);
+        std::vector<float> rgba;
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) rgba.insert(rgba.end(), {float(i) / float(w - 1), float(j) / float(h - 1), 0.5f, 1.0f});
+        Sampler s;
+        s.registration = Registration::node;
+        s.wrap_u = s.wrap_v = Wrap::clamp;
+        const MipMap mip(std::make_shared<Image>(Image::hdr(w, h, rgba)), s);
+        for (double lambda : {0.0, 0.5, 1.0, 1.7, 2.0, 2.5}) {
+            CAPTURE(lambda);
+            // Level l's end nodes see the clamp within about 2^(l+1) base nodes of the ends.
+            const double margin_u = std::ldexp(2.0, int(lambda) + 2) / (w - 1), margin_v = std::ldexp(2.0, int(lambda) + 2) / (h - 1);
+            if (margin_u >= 0.45 || margin_v >= 0.45) continue;
+            for (double fu = 0.0; fu <= 1.0; fu += 0.125)
+                for (double fv = 0.0; fv <= 1.0; fv += 0.25) {
+                    const double u = margin_u + fu * (1.0 - 2.0 * margin_u), v = margin_v + fv * (1.0 - 2.0 * margin_v);
+                    const Color4 got = sample_trilinear(mip, s, u, v, lambda);
+                    CHECK(got.x == doctest::Approx(u).epsilon(1e-5));
+                    CHECK(got.y == doctest::Approx(v).epsilon(1e-5));
+                    const Color4 nearest_level = sample_mip_nearest(mip, s, u, v, lambda, true);
+                    CHECK(nearest_level.x == doctest::Approx(u).epsilon(1e-5));
+                }
+        }
+    }
+}
+
 TEST_CASE("level of detail is 0 at one texel per pixel and 1 at two, whatever the rotation") {
     for (double degrees : {0.0, 30.0, 45.0, 77.0}) {
         CAPTURE(degrees);

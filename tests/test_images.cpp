@@ -5,10 +5,12 @@
 #include <stb_image_write.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
 #include "texr/texture/image.h"
 #include "texr/texture/reconstruct.h"
 
@@ -104,4 +106,28 @@ TEST_CASE("mip levels are built only for textures that get minified") {
     CHECK_FALSE(near.textures[0].mipmap->built());
     render(far, {}, stats);
     CHECK(far.textures[0].mipmap->built());
+}
+
+TEST_CASE("textures of one image share its box levels; node registration gets levels per wrap mode and border") {
+    std::istringstream text(
+        "texture a file textures/detail.png filter trilinear\n"
+        "texture b file textures/detail.png filter ewa wrap clamp\n"
+        "texture c file textures/detail.png filter trilinear registration node\n"
+        "texture d file textures/detail.png filter nearest_mip_nearest registration node wrap repeat\n"
+        "texture e file textures/detail.png filter trilinear registration node wrap clamp\n"
+        "texture f file textures/detail.png filter trilinear registration node wrap border border 1 0 0 1\n"
+        "texture g file textures/detail.png filter trilinear registration node wrap border border 0 0 1 1\n"
+        "material m texture a\n"
+        "triangle material m v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n");
+    const Scene scene = parse_scene(text, testing::source_path("models/textures.scene"));
+    REQUIRE(scene.textures.size() == 7);
+    const auto mip = [&](int k) { return scene.textures[std::size_t(k)].mipmap.get(); };
+    CHECK(mip(0) == mip(1));  // cell: the wrap mode does not change box levels
+    CHECK_FALSE(mip(0)->node_levels());
+    CHECK(mip(2)->node_levels());
+    CHECK(mip(2) == mip(3));  // node, repeat both
+    CHECK(mip(2) != mip(0));
+    CHECK(mip(4) != mip(2));
+    CHECK(mip(5) != mip(6));  // border colours differ
+    CHECK(&mip(0)->base() == &mip(5)->base());  // one image in memory
 }

@@ -1,10 +1,12 @@
 // Scene file parser (format: docs/scene-format.md).
 #include "texr/scene/parser.h"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 #include <sys/stat.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -246,7 +248,7 @@ private:
         }
         if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
         t.image = image(c, t.path, space);
-        t.mipmap = mipmap(t.image);
+        t.mipmap = mipmap(t.image, t.sampler);
         texture_index_[t.name] = int(scene_.textures.size());
         scene_.textures.push_back(std::move(t));
     }
@@ -265,10 +267,14 @@ private:
         }
     }
 
-    // One mipmap per image, shared by every texture that reads it.
-    std::shared_ptr<MipMap> mipmap(const std::shared_ptr<const Image>& image) {
-        auto& m = mipmaps_[image.get()];
-        if (!m) m = std::make_shared<MipMap>(image);
+    // One mipmap per image, shared by every texture that reads it with cell registration;
+    // node registration has levels of its own for each wrap mode and border (mipmap.h).
+    std::shared_ptr<MipMap> mipmap(const std::shared_ptr<const Image>& image, const Sampler& s) {
+        MipKey key{image.get(), false, Wrap::repeat, Wrap::repeat, {0.0f, 0.0f, 0.0f, 0.0f}};
+        if (s.registration == Registration::node)
+            key = {image.get(), true, s.wrap_u, s.wrap_v, {s.border.x, s.border.y, s.border.z, s.border.w}};
+        auto& m = mipmaps_[key];
+        if (!m) m = std::make_shared<MipMap>(image, s);
         return m;
     }
 
@@ -377,7 +383,7 @@ private:
                 t.name = info.name + ".map_Kd";
                 t.path = info.diffuse_texture;
                 t.image = image(c, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
-                t.mipmap = mipmap(t.image);
+                t.mipmap = mipmap(t.image, t.sampler);
                 m.texture = int(scene_.textures.size());
                 scene_.textures.push_back(std::move(t));
             }
@@ -463,7 +469,8 @@ private:
     std::map<std::string, int> texture_index_, material_index_;
     std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the mesh line
     std::map<std::string, std::shared_ptr<const Image>> images_;
-    std::map<const Image*, std::shared_ptr<MipMap>> mipmaps_;
+    using MipKey = std::tuple<const Image*, bool, Wrap, Wrap, std::array<float, 4>>;
+    std::map<MipKey, std::shared_ptr<MipMap>> mipmaps_;
     int default_material_ = -1;
     // The default material's colour (a light grey), also given to a usemtl name that neither
     // the scene nor a .mtl file describes.

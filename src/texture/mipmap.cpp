@@ -13,9 +13,12 @@ namespace {
 // The source texels under output texel i's footprint [i n/m, (i+1) n/m): texels first[i] to
 // first[i] + count[i] - 1, with weights (the overlap of each, over n/m: they sum to 1)
 // weight[i * max_count + k]. Two texels of weight 1/2 each for even n; two or three for odd.
+// Node levels (node_footprints) list each tap's source index instead, in `index` (with the
+// same stride as `weight`; -1 for the border colour), as wrapping makes them non-consecutive.
 struct Footprints {
     std::vector<int> first, count;
     std::vector<float> weight;
+    std::vector<int> index;
     int max_count = 0;
 };
 
@@ -38,14 +41,54 @@ Footprints footprints(int n, int m) {
     return f;
 }
 
+// The integral of the hat function max(0, 1 - |t|) from -infinity to t.
+double hat_integral(double t) {
+    if (t <= -1.0) return 0.0;
+    if (t <= 0.0) return 0.5 * (t + 1.0) * (t + 1.0);
+    if (t < 1.0) return 1.0 - 0.5 * (1.0 - t) * (1.0 - t);
+    return 1.0;
+}
+
+// Node level of m nodes from n (mipmap.h): node i is the mean of the linear interpolation of
+// the source nodes over [lo, hi] = [i r - r/2, i r + r/2] (over [0, n - 1] when m = 1), so
+// source node j weighs (H(hi - j) - H(lo - j)) / (hi - lo), H = hat_integral; indices
+// beyond the ends go through the wrap mode.
+Footprints node_footprints(int n, int m, Wrap wrap) {
+    Footprints f;
+    const double r = m > 1 ? double(n - 1) / double(m - 1) : 0.0;
+    f.max_count = (m > 1 ? int(std::ceil(r)) : n) + 3;
+    f.first.assign(std::size_t(m), 0), f.count.resize(std::size_t(m));
+    f.weight.assign(std::size_t(m) * std::size_t(f.max_count), 0.0f);
+    f.index.assign(f.weight.size(), 0);
+    for (int i = 0; i < m; ++i) {
+        const double lo = m > 1 ? (i - 0.5) * r : 0.0, hi = m > 1 ? (i + 0.5) * r : double(n - 1);
+        const std::size_t at = std::size_t(i) * std::size_t(f.max_count);
+        int k = 0;
+        if (n == 1) {
+            f.weight[at] = 1.0f, k = 1;
+        } else {
+            // Node j's hat covers (j - 1, j + 1): the taps that touch [lo, hi].
+            for (int j = int(std::floor(lo)); j <= int(std::ceil(hi)); ++j) {
+                const double weight = (hat_integral(hi - j) - hat_integral(lo - j)) / (hi - lo);
+                if (weight <= 0.0) continue;
+                f.weight[at + std::size_t(k)] = float(weight);
+                f.index[at + std::size_t(k)] = wrap_index(wrap, j, n, true);
+                ++k;
+            }
+        }
+        f.count[std::size_t(i)] = k;
+    }
+    return f;
+}
+
 // Streams one level from `source`, a row at a time: each output row is the weighted sum of
 // the (two or three) source rows under its footprint, each of those first decoded to linear
 // RGBA floats and reduced along x. Only a few rows are held in float, so building the
 // pyramid of an 8192^2 texture needs no more memory than the levels themselves.
 class RowReducer {
 public:
-    RowReducer(const Image& source, const Footprints& fx)
-        : source_(source), fx_(fx), decoded_(4 * std::size_t(source.width())) {
+    RowReducer(const Image& source, const Footprints& fx, const Color4& border)
+        : source_(source), fx_(fx), border_{border.x, border.y, border.z, border.w}, decoded_(4 * std::size_t(source.width())) {
         for (Cached& c : cache_) c.texels.resize(4 * fx.first.size());
     }
 
@@ -73,6 +116,18 @@ public:
         }
         float* out = slot.texels.data();
         const std::size_t stride = std::size_t(fx_.max_count);
+        if (!fx_.index.empty()) {  // node levels: taps by index
+            for (std::size_t i = 0; i < fx_.first.size(); ++i, out += 4) {
+                float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+                for (std::size_t k = 0; k < std::size_t(fx_.count[i]); ++k) {
+                    const int j = fx_.index[i * stride + k];
+                    const float* t = j < 0 ? border_ : in + 4 * std::size_t(j);
+                    for (int ch = 0; ch < 4; ++ch) sum[ch] += fx_.weight[i * stride + k] * t[ch];
+                }
+                for (int ch = 0; ch < 4; ++ch) out[ch] = sum[ch];
+            }
+            return slot.texels.data();
+        }
         for (std::size_t i = 0; i < fx_.first.size(); ++i, out += 4) {
             const float* t = in + 4 * std::size_t(fx_.first[i]);
             const float* w = &fx_.weight[i * stride];
@@ -91,6 +146,7 @@ private:
     };
     const Image& source_;
     const Footprints& fx_;
+    float border_[4];
     std::vector<float> decoded_;  // the source row being reduced
     std::array<Cached, 4> cache_;
     std::size_t next_ = 0;
@@ -106,13 +162,9 @@ std::uint8_t to_unorm8(float linear) {
     return std::uint8_t(k + (v - float(k) >= 0.5f ? 1 : 0));
 }
 
-}  // namespace
-
-Image downsample(const Image& source) {
-    const int w = source.width(), h = source.height();
-    const int mw = std::max(1, w / 2), mh = std::max(1, h / 2);
-    const Footprints fx = footprints(w, mw), fy = footprints(h, mh);
-    RowReducer reducer(source, fx);
+// One level of mw x mh texels from `source` through the footprints along x and y.
+Image reduce(const Image& source, int mw, int mh, const Footprints& fx, const Footprints& fy, const Color4& border) {
+    RowReducer reducer(source, fx, border);
     const std::size_t count = std::size_t(mw) * std::size_t(mh);
     std::vector<float> hdr(source.is_hdr() ? count * 4 : 0);
     std::vector<std::uint8_t> ldr(source.is_hdr() ? 0 : count * 4);
@@ -123,9 +175,17 @@ Image downsample(const Image& source) {
         std::fill(out_row.begin(), out_row.end(), 0.0f);
         const std::size_t stride = std::size_t(fy.max_count);
         for (int k = 0; k < fy.count[std::size_t(j)]; ++k) {
-            const float weight = fy.weight[std::size_t(j) * stride + std::size_t(k)];
-            const float* __restrict r = reducer.row(fy.first[std::size_t(j)] + k);
+            const std::size_t tap = std::size_t(j) * stride + std::size_t(k);
+            const float weight = fy.weight[tap];
             float* __restrict out = out_row.data();
+            if (!fy.index.empty() && fy.index[tap] < 0) {  // a border row (node levels)
+                for (std::size_t i = 0; i < out_row.size(); i += 4) {
+                    out[i] += weight * border.x, out[i + 1] += weight * border.y;
+                    out[i + 2] += weight * border.z, out[i + 3] += weight * border.w;
+                }
+                continue;
+            }
+            const float* __restrict r = reducer.row(fy.index.empty() ? fy.first[std::size_t(j)] + k : fy.index[tap]);
             for (std::size_t i = 0; i < out_row.size(); i += 4) {  // (written out: -O3 does the 4 at once)
                 out[i] += weight * r[i], out[i + 1] += weight * r[i + 1];
                 out[i + 2] += weight * r[i + 2], out[i + 3] += weight * r[i + 3];
@@ -146,9 +206,27 @@ Image downsample(const Image& source) {
     return Image::ldr(mw, mh, source.color_space(), std::move(ldr));
 }
 
-int MipMap::count_levels(const Image& base) {
+// The size of the level below one of n texels: max(1, floor(n / 2)) cells, ceil(n / 2) nodes.
+int next_size(int n, bool node) { return node ? (n + 1) / 2 : std::max(1, n / 2); }
+
+}  // namespace
+
+Image downsample(const Image& source) {
+    const int w = source.width(), h = source.height();
+    const int mw = next_size(w, false), mh = next_size(h, false);
+    return reduce(source, mw, mh, footprints(w, mw), footprints(h, mh), Color4(0.0f));
+}
+
+Image downsample_nodes(const Image& source, const Sampler& sampler) {
+    const int w = source.width(), h = source.height();
+    const int mw = next_size(w, true), mh = next_size(h, true);
+    return reduce(source, mw, mh, node_footprints(w, mw, sampler.wrap_u), node_footprints(h, mh, sampler.wrap_v),
+                  sampler.border);
+}
+
+int MipMap::count_levels(const Image& base, bool node) {
     int levels = 1;
-    for (int w = base.width(), h = base.height(); w > 1 || h > 1; w = std::max(1, w / 2), h = std::max(1, h / 2))
+    for (int w = base.width(), h = base.height(); w > 1 || h > 1; w = next_size(w, node), h = next_size(h, node))
         ++levels;
     return levels;
 }
@@ -161,7 +239,10 @@ void MipMap::build() const {
         // stays behind for the next attempt.
         std::vector<Image> levels;
         levels.reserve(std::size_t(count - 1));
-        for (int l = 1; l < count; ++l) levels.push_back(downsample(l == 1 ? *base_ : levels.back()));
+        for (int l = 1; l < count; ++l) {
+            const Image& source = l == 1 ? *base_ : levels.back();
+            levels.push_back(node_ ? downsample_nodes(source, sampler_) : downsample(source));
+        }
         std::vector<LdrLevel> views;
         if (base_->is_ldr_pow2()) {
             views.push_back(base_->ldr_level());

@@ -13,6 +13,19 @@
 // build streams a few rows at a time: it needs no memory beyond the levels themselves.
 // Levels are built on first use, only for textures that are minified; building is
 // thread-safe.
+//
+// Node registration (sampler.h: texel i at u = i / (n - 1)) has levels of its own: box
+// averages sit between the nodes of the level below, so a node lattice would read them up
+// to half a level's texel away from where they belong. Level l + 1 has ceil(n / 2) nodes
+// along an axis of n (2^k + 1 nodes give 2^(k-1) + 1: every other node, spacing exactly
+// twice as wide), node i at the source lattice position x = i r, r = (n - 1) / (m - 1), the
+// spacing ratio. Its value is the mean, over [x - r/2, x + r/2], of the source level's
+// linear interpolation between nodes: for r = 2 the weights 1/4, 1/2, 1/4. The mean of a
+// linear function over an interval is its value at the centre, so a linear ramp stays
+// exactly where it was on every level. Nodes beyond the ends are read through the
+// sampler's wrap mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so
+// these levels belong to one sampler's wrap modes; a level of one node holds the mean over
+// the whole image, [0, n - 1].
 #pragma once
 #include <atomic>
 #include <memory>
@@ -20,15 +33,25 @@
 #include <vector>
 
 #include "texr/texture/image.h"
+#include "texr/texture/sampler.h"
 
 namespace texr {
 
 // One box-filtered level below `source`.
 Image downsample(const Image& source);
+// One node-registered level below `source` (see above), read beyond its ends through
+// `sampler`'s wrap modes and border colour.
+Image downsample_nodes(const Image& source, const Sampler& sampler);
 
 class MipMap {
 public:
-    explicit MipMap(std::shared_ptr<const Image> base) : base_(std::move(base)), level_count_(count_levels(*base_)) {}
+    // Levels for cell registration.
+    explicit MipMap(std::shared_ptr<const Image> base) : base_(std::move(base)), level_count_(count_levels(*base_, false)) {}
+    // Levels for `sampler`'s registration: box levels for cell registration (the same as
+    // above), node levels read through its wrap modes for node registration.
+    MipMap(std::shared_ptr<const Image> base, const Sampler& sampler)
+        : base_(std::move(base)), node_(sampler.registration == Registration::node), sampler_(sampler),
+          level_count_(count_levels(*base_, node_)) {}
 
     const Image& base() const { return *base_; }
     // Level l (0 is the base); builds the pyramid on first call with l > 0.
@@ -45,14 +68,17 @@ public:
     }
     // Number of levels including the base (down to 1x1). Does not build them.
     int level_count() const { return level_count_; }
+    bool node_levels() const { return node_; }
     bool built() const { return built_flag_.load(); }
     double build_seconds() const { return build_seconds_; }
     std::size_t bytes() const;  // all levels above the base
     void build() const;
 
 private:
-    static int count_levels(const Image& base);
+    static int count_levels(const Image& base, bool node);
     std::shared_ptr<const Image> base_;
+    bool node_ = false;
+    Sampler sampler_;  // node levels: the wrap modes and border colour they are read with
     int level_count_;
     mutable std::once_flag once_;
     mutable std::vector<Image> levels_;
