@@ -211,6 +211,47 @@ TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by ha
     CHECK(outside.output.find("X must be a pixel index from 0 to 63") != std::string::npos);
 }
 
+TEST_CASE("texr explain names the mip levels each filter reads, with lambda, probes and ellipse worked out by hand") {
+    // The square of the test above with the 1024^2 detail texture over u, v in [0, 0.375]:
+    // 384 texels over 64 pixels, 6 texels per pixel along x and y, lambda = log2 6 = 2.5850.
+    // Squeezed to v in [0, 0.09375], 1.5 texels per pixel along y: the footprint ellipse has
+    // axes 6 and 1.5, so anisotropic takes 6 / 1.5 = 4 probes at log2(6 / 4) = 0.5850 and EWA
+    // reads lambda = log2 1.5 = 0.5850; with max_anisotropy 2, 2 probes at log2 3 = 1.5850 and
+    // EWA's minor axis stretched to 6 / 2 = 3, log2 3 = 1.5850.
+    const std::string dir = scratch_folder("explain-levels");
+    const auto explain = [&](const std::string& filter, double v_top, const std::string& options = "") {
+        write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file " +
+                                           source_path("models/textures/detail.png") + " filter " + filter + " " + options +
+                                           "\nmaterial m texture t\nquad material m v -2 -2 -2 0 0 v 2 -2 -2 0.375 0 v 2 2 -2 0.375 " +
+                                           std::to_string(v_top) + " v -2 2 -2 0 " + std::to_string(v_top) + "\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 16 48");
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    std::string out = explain("bilinear", 0.375);
+    CHECK(out.find("lambda = log2(max of the two) = 2.5850 (minified)") != std::string::npos);
+    CHECK(out.find("the filter reads the base level only, without mip levels: minified without prefiltering") != std::string::npos);
+    out = explain("nearest_mip_nearest", 0.375);  // ceil(2.585 + 1/2) - 1 = 3
+    CHECK(out.find("else ceil(lambda + 1/2) - 1): level 3 (128x128)") != std::string::npos);
+    out = explain("trilinear", 0.375);
+    CHECK(out.find("bilinear on level 2 (256x256) and level 3 (128x128), blended 0.5850 of the way") != std::string::npos);
+    out = explain("anisotropic", 0.09375);
+    CAPTURE(out);
+    CHECK(out.find("major 6, minor 1.5 texels") != std::string::npos);
+    CHECK(out.find("4 trilinear probe(s)") != std::string::npos);
+    CHECK(out.find("lambda = log2(major / 4) = 0.5850: bilinear on level 0 (1024x1024) and level 1 (512x512)") != std::string::npos);
+    out = explain("anisotropic", 0.09375, "max_anisotropy 2");
+    CHECK(out.find("2 trilinear probe(s)") != std::string::npos);
+    CHECK(out.find("lambda = log2(major / 2) = 1.5850: bilinear on level 1 (512x512) and level 2 (256x256)") != std::string::npos);
+    out = explain("ewa", 0.09375);
+    CHECK(out.find("lambda = log2(minor) = 0.5850: the Gaussian-weighted mean over the ellipse on level 0 (1024x1024) and level 1") !=
+          std::string::npos);
+    out = explain("ewa", 0.09375, "max_anisotropy 2");
+    CHECK(out.find("the minor axis stretched to major / max_anisotropy = 3 texels") != std::string::npos);
+    CHECK(out.find("lambda = log2(minor) = 1.5850: the Gaussian-weighted mean over the ellipse on level 1 (512x512) and level 2") !=
+          std::string::npos);
+}
+
 TEST_CASE("more command-line and scene mistakes: empty -o, padded --size, a folder, a comment ending in a backslash") {
     const std::string dir = scratch_folder("more");
     write_text(dir + "/scene.txt", good_scene);

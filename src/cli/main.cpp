@@ -42,7 +42,8 @@ const char* explain_help =
     "Renders SCENE (nothing is written) and explains pixel (X, Y), column X from the left and\n"
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
     "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
-    "u = u'/q and v = v'/q, the exact derivatives, the level of detail, and the colour.\n";
+    "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
+    "texture's filter reads, and the colour.\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"

@@ -1,6 +1,7 @@
 // texr explain: one pixel's story as text (see include/texr/render/explain.h).
 #include "texr/render/explain.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -32,6 +33,74 @@ const char* wrap_name(Wrap w) {
         case Wrap::border: return "border";
     }
     return "?";
+}
+
+// The mip levels the texture's filter reads at this pixel, worked out as the samplers do
+// (minify.h, ewa.h), with lambda the level of detail of the lecture's formula.
+std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda) {
+    const MipMap& mip = *t.mipmap;
+    const Sampler& s = t.sampler;
+    const int last = mip.level_count() - 1;
+    const double w = mip.base().width(), h = mip.base().height();
+    const auto level = [&](int l) {
+        const Image& image = mip.level(l);
+        return "level " + std::to_string(l) + " (" + std::to_string(image.width()) + "x" + std::to_string(image.height()) + ")";
+    };
+    const auto trilinear_levels = [&](double at) -> std::string {  // minify.h trilinear_over
+        if (!(at > 0.0)) return level(0);
+        if (at >= double(last)) return level(last) + ", the coarsest";
+        const int l0 = int(at);
+        if (at == double(l0)) return level(l0);
+        return level(l0) + " and " + level(l0 + 1) + format(", blended %.4f of the way to the second", at - l0);
+    };
+    switch (s.filter) {
+        case Filter::nearest:
+        case Filter::bilinear:
+        case Filter::bicubic:
+            return std::string("    the filter reads the base level only, without mip levels") +
+                   (lambda > 0.0 ? ": minified without prefiltering, it can alias\n" : "\n");
+        case Filter::nearest_mip_nearest:
+        case Filter::bilinear_mip_nearest:
+            return "    the level nearest to lambda (0 for lambda <= 1/2, else ceil(lambda + 1/2) - 1): " +
+                   level(minify_detail::nearest_level(last, lambda)) + "\n";
+        case Filter::trilinear:
+            return "    trilinear: bilinear on " + trilinear_levels(lambda) + "\n";
+        case Filter::anisotropic:
+        case Filter::ewa:
+            break;
+    }
+    // The footprint ellipse's principal axes, in base-level texels (footprint_axes); EWA
+    // counts a derivative vector with a NaN as no extent.
+    double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
+    if (s.filter == Filter::ewa) {
+        if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
+        if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
+    }
+    const FootprintAxes axes = footprint_axes(d1u, d1v, d2u, d2v);
+    if (!(axes.major > 0.0) || !std::isfinite(axes.major))
+        return "    no footprint to measure (a point, or beyond measure): bilinear on " + level(axes.major > 0.0 ? last : 0) + "\n";
+    std::string out = format("    footprint ellipse (the principal axes of the derivative vectors): major %.4g, minor %.4g texels\n",
+                             axes.major, axes.minor);
+    if (s.filter == Filter::anisotropic) {  // minify.cpp sample_anisotropic
+        const double ratio = axes.minor > 0.0 ? axes.major / axes.minor : double(s.max_anisotropy);
+        const int n = std::max(1, int(std::ceil(std::min(ratio, double(s.max_anisotropy)) - 1e-9)));
+        const double at = std::log2(axes.major / n);
+        return out + format("    %.0f trilinear probe(s) along the major axis (at most max_anisotropy %g), averaged; each at\n", n,
+                            s.max_anisotropy) +
+               format("    lambda = log2(major / %.0f) = %.4f: bilinear on ", n, at) + trilinear_levels(at) + "\n";
+    }
+    // ewa.cpp sample_ewa: the minor axis is stretched to major / max_anisotropy at most that
+    // eccentricity; the level is where the minor axis spans about one texel.
+    double minor = axes.minor;
+    if (!(minor * s.max_anisotropy >= axes.major)) {
+        minor = axes.major / s.max_anisotropy;
+        out += format("    the minor axis stretched to major / max_anisotropy = %.4g texels\n", minor);
+    }
+    const double at = std::max(0.0, std::log2(std::max(minor, 1e-300)));
+    out += format("    lambda = log2(minor) = %.4f: ", at);
+    if (at >= double(last)) return out + "wider than the image, bilinear on " + level(last) + ", the coarsest\n";
+    return out + "the Gaussian-weighted mean over the ellipse on " + trilinear_levels(at) + "\n";
+    return out;
 }
 
 }  // namespace
@@ -102,6 +171,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                       std::sqrt(std::pow(w * d.dudy, 2) + std::pow(h * d.dvdy, 2)));
         out += format("    level of detail lambda = log2(max of the two) = %.4f ", lambda) +
                (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");
+        out += levels_read(t, d, lambda);
     }
     out += format("\n6. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);
     return out;
