@@ -108,7 +108,7 @@ TEST_CASE("mip levels are built only for textures that get minified") {
     CHECK(far.textures[0].mipmap->built());
 }
 
-TEST_CASE("textures of one image share its box levels; node registration gets levels per wrap mode and border") {
+TEST_CASE("textures of one image share its box levels, node registration gets levels per wrap mode and border") {
     std::istringstream text(
         "texture a file textures/detail.png filter trilinear\n"
         "texture b file textures/detail.png filter ewa wrap clamp\n"
