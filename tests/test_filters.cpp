@@ -211,6 +211,87 @@ TEST_CASE("node-registered mip levels: every other node filtered 1/4, 1/2, 1/4, 
     CHECK(boxes.level(1).width() == 4);
 }
 
+TEST_CASE("node-registered mip levels of any size match the mean of the linear interpolation, integrated piece by piece") {
+    // An independent reference along one axis: level m = floor(n/2) + 1 (1 from n <= 2) has
+    // node i at x = i (n - 1) / (m - 1); its value is the mean of the linear interpolation L
+    // of the wrapped source nodes over [x - r/2, x + r/2] ([0, n - 1] for m = 1), integrated
+    // exactly by splitting the interval at whole nodes and taking each piece's trapezoid
+    // (exact for a linear piece).
+    const auto node_of = [](Wrap mode, int k, int n) {  // the node each mode reads, -1 for the border
+        if (k >= 0 && k < n) return k;
+        if (n == 1) return mode == Wrap::border ? -1 : 0;
+        const int period = n - 1;
+        switch (mode) {
+            case Wrap::repeat: return ((k % period) + period) % period;
+            case Wrap::mirror: {
+                const int t = ((k % (2 * period)) + 2 * period) % (2 * period);
+                return t <= period ? t : 2 * period - t;
+            }
+            case Wrap::clamp: return k < 0 ? 0 : n - 1;
+            case Wrap::border: return -1;
+        }
+        return 0;
+    };
+    const double border = -0.75;
+    const auto reference_level = [&](const std::vector<double>& p, Wrap mode) {
+        const int n = int(p.size()), m = n <= 2 ? 1 : n / 2 + 1;
+        const auto value = [&](int k) {
+            const int j = node_of(mode, k, n);
+            return j < 0 ? border : p[std::size_t(j)];
+        };
+        const auto L = [&](double t) {
+            const double k = std::floor(t), f = t - k;
+            return (1.0 - f) * value(int(k)) + f * value(int(k) + 1);
+        };
+        std::vector<double> out;
+        for (int i = 0; i < m; ++i) {
+            const double r = m > 1 ? double(n - 1) / double(m - 1) : 0.0;
+            const double lo = m > 1 ? (i - 0.5) * r : 0.0, hi = m > 1 ? (i + 0.5) * r : double(n - 1);
+            if (hi == lo) {  // a single node
+                out.push_back(value(0));
+                continue;
+            }
+            double integral = 0.0;
+            for (double a = lo; a < hi;) {
+                const double b = std::min(hi, std::floor(a) + 1.0);
+                integral += (b - a) * 0.5 * (L(a) + L(b));  // (L is continuous at whole nodes)
+                a = b;
+            }
+            out.push_back(integral / (hi - lo));
+        }
+        return out;
+    };
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> value(-1.0, 2.0);
+    for (int n : {2, 3, 4, 5, 6, 7, 10, 12, 16, 21, 33, 64}) {
+        std::vector<double> base(static_cast<std::size_t>(n));
+        for (double& b : base) b = value(rng);
+        std::vector<float> rgba;
+        for (double b : base) rgba.insert(rgba.end(), {float(b), 0.0f, 0.0f, 1.0f});
+        const auto image = std::make_shared<Image>(Image::hdr(n, 1, rgba));
+        for (Wrap mode : {Wrap::repeat, Wrap::mirror, Wrap::clamp, Wrap::border}) {
+            CAPTURE(n);
+            CAPTURE(int(mode));
+            Sampler s;
+            s.registration = Registration::node;
+            s.wrap_u = s.wrap_v = mode;
+            s.border = Color4(float(border), 0.0f, 0.0f, 1.0f);
+            const MipMap mip(image, s);
+            std::vector<double> expected(base.begin(), base.end());
+            for (int l = 1; l < mip.level_count(); ++l) {
+                // (The image is one node high: along v every level reads that node alone.)
+                for (double& e : expected) e = float(e);  // each level is stored as float
+                expected = reference_level(expected, mode);
+                const Image& level = mip.level(l);
+                REQUIRE(level.width() == int(expected.size()));
+                REQUIRE(level.height() == 1);
+                for (int i = 0; i < level.width(); ++i) CHECK(level.texel(i, 0).x == doctest::Approx(expected[std::size_t(i)]).epsilon(1e-5));
+            }
+            CHECK(mip.level(mip.level_count() - 1).width() == 1);
+        }
+    }
+}
+
 TEST_CASE("node registration's mip filters read a linear ramp where it is, on every level") {
     // R = u and G = v at the nodes (u = i / (n - 1)): every node level holds the same ramp,
     // and bilinear lookups of a ramp are exact, so trilinear returns (u, v) at any level of

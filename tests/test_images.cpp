@@ -117,10 +117,11 @@ TEST_CASE("textures of one image share its box levels, node registration gets le
         "texture e file textures/detail.png filter trilinear registration node wrap clamp\n"
         "texture f file textures/detail.png filter trilinear registration node wrap border border 1 0 0 1\n"
         "texture g file textures/detail.png filter trilinear registration node wrap border border 0 0 1 1\n"
+        "texture h file textures/detail.png filter trilinear registration node border 0 0 1 1\n"
         "material m texture a\n"
         "triangle material m v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n");
     const Scene scene = parse_scene(text, testing::source_path("models/textures.scene"));
-    REQUIRE(scene.textures.size() == 7);
+    REQUIRE(scene.textures.size() == 8);
     const auto mip = [&](int k) { return scene.textures[std::size_t(k)].mipmap.get(); };
     CHECK(mip(0) == mip(1));  // cell: the wrap mode does not change box levels
     CHECK_FALSE(mip(0)->node_levels());
@@ -128,6 +129,7 @@ TEST_CASE("textures of one image share its box levels, node registration gets le
     CHECK(mip(2) == mip(3));  // node, repeat both
     CHECK(mip(2) != mip(0));
     CHECK(mip(4) != mip(2));
-    CHECK(mip(5) != mip(6));  // border colours differ
+    CHECK(mip(5) != mip(6));  // border colours differ, and border wrap reads them
+    CHECK(mip(7) == mip(2));  // repeat never reads the border colour
     CHECK(&mip(0)->base() == &mip(5)->base());  // one image in memory
 }

@@ -268,11 +268,15 @@ private:
     }
 
     // One mipmap per image, shared by every texture that reads it with cell registration;
-    // node registration has levels of its own for each wrap mode and border (mipmap.h).
+    // node registration has levels of its own for each pair of wrap modes (and border colour,
+    // if a mode is border), as they read beyond the ends through them (mipmap.h).
     std::shared_ptr<MipMap> mipmap(const std::shared_ptr<const Image>& image, const Sampler& s) {
         MipKey key{image.get(), false, Wrap::repeat, Wrap::repeat, {0.0f, 0.0f, 0.0f, 0.0f}};
-        if (s.registration == Registration::node)
-            key = {image.get(), true, s.wrap_u, s.wrap_v, {s.border.x, s.border.y, s.border.z, s.border.w}};
+        if (s.registration == Registration::node) {
+            key = {image.get(), true, s.wrap_u, s.wrap_v, {0.0f, 0.0f, 0.0f, 0.0f}};
+            if (s.wrap_u == Wrap::border || s.wrap_v == Wrap::border)
+                std::get<4>(key) = {s.border.x, s.border.y, s.border.z, s.border.w};
+        }
         auto& m = mipmaps_[key];
         if (!m) m = std::make_shared<MipMap>(image, s);
         return m;

@@ -1,4 +1,5 @@
-// Mipmap construction by exact box downsampling (see include/texr/texture/mipmap.h).
+// Mipmap construction: exact box downsampling for cell registration, the mean of the linear
+// interpolation for node registration (see include/texr/texture/mipmap.h).
 #include "texr/texture/mipmap.h"
 
 #include <algorithm>
@@ -82,7 +83,7 @@ Footprints node_footprints(int n, int m, Wrap wrap) {
 }
 
 // Streams one level from `source`, a row at a time: each output row is the weighted sum of
-// the (two or three) source rows under its footprint, each of those first decoded to linear
+// the source rows under its footprint (two or three for box levels, up to four for node levels), each of those first decoded to linear
 // RGBA floats and reduced along x. Only a few rows are held in float, so building the
 // pyramid of an 8192^2 texture needs no more memory than the levels themselves.
 class RowReducer {
@@ -206,8 +207,12 @@ Image reduce(const Image& source, int mw, int mh, const Footprints& fx, const Fo
     return Image::ldr(mw, mh, source.color_space(), std::move(ldr));
 }
 
-// The size of the level below one of n texels: max(1, floor(n / 2)) cells, ceil(n / 2) nodes.
-int next_size(int n, bool node) { return node ? (n + 1) / 2 : std::max(1, n / 2); }
+// The size of the level below one of n texels: max(1, floor(n / 2)) cells; floor(n / 2) + 1
+// nodes (1 from 2 or fewer), which keeps the spacing 2^l base spacings (mipmap.h).
+int next_size(int n, bool node) {
+    if (node) return n <= 2 ? 1 : n / 2 + 1;
+    return std::max(1, n / 2);
+}
 
 }  // namespace
 

@@ -16,16 +16,20 @@
 //
 // Node registration (sampler.h: texel i at u = i / (n - 1)) has levels of its own: box
 // averages sit between the nodes of the level below, so a node lattice would read them up
-// to half a level's texel away from where they belong. Level l + 1 has ceil(n / 2) nodes
-// along an axis of n (2^k + 1 nodes give 2^(k-1) + 1: every other node, spacing exactly
-// twice as wide), node i at the source lattice position x = i r, r = (n - 1) / (m - 1), the
-// spacing ratio. Its value is the mean, over [x - r/2, x + r/2], of the source level's
-// linear interpolation between nodes: for r = 2 the weights 1/4, 1/2, 1/4. The mean of a
-// linear function over an interval is its value at the centre, so a linear ramp stays
-// exactly where it was on every level. Nodes beyond the ends are read through the
-// sampler's wrap mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so
-// these levels belong to one sampler's wrap modes; a level of one node holds the mean over
-// the whole image, [0, n - 1].
+// to half a level's texel away from where they belong. Level l + 1 has m = floor(n / 2) + 1
+// nodes along an axis of n > 2 (and 1 for n <= 2), node i at the source lattice position
+// x = i r, r = (n - 1) / (m - 1), the spacing ratio: for odd n, r = 2, every other node
+// (2^k + 1 nodes give 2^(k-1) + 1); for even n, r = 2 - 2/n, and the next level has an odd
+// size (1024 nodes give 513, 257, ...). So level l's spacing is 2^l base spacings, or
+// 2^l (n - 1) / n for even n, as the level of detail assumes (ceil(n / 2) nodes would
+// make the last levels of a 1024 texture up to twice as coarse). A node's value is the mean,
+// over [x - r/2, x + r/2], of the source level's linear interpolation between nodes: for
+// r = 2 the weights 1/4, 1/2, 1/4, for other r up to four weights. The mean of a linear
+// function over an interval is its value at the centre, so a linear ramp stays exactly
+// where it was on every level. Nodes beyond the ends are read through the sampler's wrap
+// mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so these levels
+// belong to one sampler's wrap modes; a level of one node holds the mean of the two-node
+// level above it over [0, 1] (the trapezoid rule; for repeat, the period's mean).
 #pragma once
 #include <atomic>
 #include <memory>
