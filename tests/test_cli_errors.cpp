@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "helpers.h"
@@ -232,7 +234,7 @@ TEST_CASE("texr explain names the mip levels each filter reads, with lambda, pro
     CHECK(out.find("lambda = log2(max of the two) = 2.5850 (minified)") != std::string::npos);
     CHECK(out.find("the filter reads the base level only, without mip levels: minified without prefiltering") != std::string::npos);
     out = explain("nearest_mip_nearest", 0.375);  // ceil(2.585 + 1/2) - 1 = 3
-    CHECK(out.find("else ceil(lambda + 1/2) - 1): level 3 (128x128)") != std::string::npos);
+    CHECK(out.find("coarsest): level 3 (128x128)") != std::string::npos);
     out = explain("trilinear", 0.375);
     CHECK(out.find("bilinear on level 2 (256x256) and level 3 (128x128), blended 0.5850 of the way") != std::string::npos);
     out = explain("anisotropic", 0.09375);
@@ -244,12 +246,98 @@ TEST_CASE("texr explain names the mip levels each filter reads, with lambda, pro
     CHECK(out.find("2 trilinear probe(s)") != std::string::npos);
     CHECK(out.find("lambda = log2(major / 2) = 1.5850: bilinear on level 1 (512x512) and level 2 (256x256)") != std::string::npos);
     out = explain("ewa", 0.09375);
-    CHECK(out.find("lambda = log2(minor) = 0.5850: the Gaussian-weighted mean over the ellipse on level 0 (1024x1024) and level 1") !=
-          std::string::npos);
+    CHECK(out.find("lambda = max(0, log2(minor)) = 0.5850: the Gaussian-weighted mean over the ellipse on level 0 (1024x1024) and "
+                   "level 1 (512x512), blended 0.5850") != std::string::npos);
     out = explain("ewa", 0.09375, "max_anisotropy 2");
     CHECK(out.find("the minor axis stretched to major / max_anisotropy = 3 texels") != std::string::npos);
-    CHECK(out.find("lambda = log2(minor) = 1.5850: the Gaussian-weighted mean over the ellipse on level 1 (512x512) and level 2") !=
+    CHECK(out.find("lambda = max(0, log2(minor)) = 1.5850: the Gaussian-weighted mean over the ellipse on level 1 (512x512) and "
+                   "level 2") != std::string::npos);
+    // Magnified, 0.5 texels per pixel: lambda = -1, the base level; EWA's level is clamped at 0.
+    out = [&] {
+        write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file " +
+                                           source_path("models/textures/detail.png") +
+                                           " filter ewa\nmaterial m texture t\nquad material m v -2 -2 -2 0 0 v 2 -2 -2 0.03125 0 "
+                                           "v 2 2 -2 0.03125 0.03125 v -2 2 -2 0 0.03125\n");
+        return run_texr("explain " + dir + "/scene.txt 16 48").output;
+    }();
+    CHECK(out.find("lambda = log2(max of the two) = -1.0000 (magnified or 1:1)") != std::string::npos);
+    CHECK(out.find("major 0.5, minor 0.5 texels") != std::string::npos);
+    CHECK(out.find("lambda = max(0, log2(minor)) = 0.0000: the Gaussian-weighted mean over the ellipse on level 0 (1024x1024)\n") !=
           std::string::npos);
+}
+
+TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coarsest level, and under an affine span mode") {
+    const std::string dir = scratch_folder("explain-sheared");
+    // A 256 x 64 texture (any texels) on the 64x64 square of the tests above, with UVs
+    // (0, 0), (1.5, 0), (2.25, 1.5), (0.75, 1.5) at the top left, top right, bottom right and
+    // bottom left pixel corners: one pixel right moves (6, 0) texels, one down (3, 1.5). Worked
+    // by hand: J J^T = [[45, 4.5], [4.5, 2.25]], eigenvalues (47.25 +- sqrt(1908.5625)) / 2, so
+    // major = 6.7430, minor = |det J| / major = 9 / 6.7430 = 1.3347, eccentricity 5.05.
+    // Trilinear: lambda = log2 max(6, sqrt(11.25)) = log2 6 = 2.5850, levels 2 (64x16), 3 (32x8).
+    // Anisotropic: 6 probes at log2(6.7430 / 6) = 0.1684; max_anisotropy 2: 2 at log2(3.3715) =
+    // 1.7534. EWA: log2(1.3347) = 0.4165; max_anisotropy 2: minor 3.3715, 1.7534.
+    std::string ppm = "P6\n256 64\n255\n";
+    for (int k = 0; k < 256 * 64 * 3; ++k) ppm += char(k * 7 % 256);
+    write_text(dir + "/t.ppm", ppm);
+    const auto explain = [&](const std::string& texture, const std::string& uvs, const std::string& where = "16 48",
+                             const std::string& options = "") {
+        write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file " + texture +
+                                           "\nmaterial m texture t\nquad material m " + uvs + "\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt " + where + options);
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    const std::string sheared = "v -2 -2 -2 0.75 1.5 v 2 -2 -2 2.25 1.5 v 2 2 -2 1.5 0 v -2 2 -2 0 0";
+    std::string out = explain("t.ppm filter trilinear", sheared);
+    CAPTURE(out);
+    CHECK(out.find("footprint: |d(u,v)/dx| = 6 texels, |d(u,v)/dy| = 3.354 texels") != std::string::npos);
+    CHECK(out.find("bilinear on level 2 (64x16) and level 3 (32x8), blended 0.5850") != std::string::npos);
+    out = explain("t.ppm filter anisotropic", sheared);
+    CHECK(out.find("major 6.743, minor 1.335 texels") != std::string::npos);
+    CHECK(out.find("6 trilinear probe(s)") != std::string::npos);
+    CHECK(out.find("lambda = log2(major / 6) = 0.1684: bilinear on level 0 (256x64) and level 1 (128x32), blended 0.1684") !=
+          std::string::npos);
+    out = explain("t.ppm filter anisotropic max_anisotropy 2", sheared);
+    CHECK(out.find("lambda = log2(major / 2) = 1.7534: bilinear on level 1 (128x32) and level 2 (64x16), blended 0.7534") !=
+          std::string::npos);
+    out = explain("t.ppm filter ewa", sheared);
+    CHECK(out.find("lambda = max(0, log2(minor)) = 0.4165: the Gaussian-weighted mean over the ellipse on level 0 (256x64) and "
+                   "level 1 (128x32), blended 0.4165") != std::string::npos);
+    out = explain("t.ppm filter ewa max_anisotropy 2", sheared);
+    CHECK(out.find("the minor axis stretched to major / max_anisotropy = 3.372 texels") != std::string::npos);
+    CHECK(out.find("= 1.7534: the Gaussian-weighted mean over the ellipse on level 1 (128x32) and level 2 (64x16), blended 0.7534") !=
+          std::string::npos);
+
+    // 1024 texels per pixel on the 1024^2 texture (UVs 0..64): lambda = 10, the 1x1 level.
+    const std::string detail = source_path("models/textures/detail.png");
+    const std::string huge = "v -2 -2 -2 0 0 v 2 -2 -2 64 0 v 2 2 -2 64 64 v -2 2 -2 0 64";
+    out = explain(detail + " filter trilinear", huge);
+    CHECK(out.find("lambda = log2(max of the two) = 10.0000 (minified)") != std::string::npos);
+    CHECK(out.find("trilinear: bilinear on level 10 (1x1), the coarsest") != std::string::npos);
+    out = explain(detail + " filter ewa", huge);
+    CHECK(out.find("at or beyond the coarsest level (the ellipse would cover the image): bilinear on level 10 (1x1)") != std::string::npos);
+
+    // A square tilted away, under affine16: the span mode's (u, v) are not u'/q, v'/q, and the
+    // footprint the lookup uses is taken there. The level of detail printed must be the one
+    // of the derivatives printed with them: lambda = log2 of the longer footprint side.
+    write_text(dir + "/tilted.txt", "size 64 48\ncamera eye 0 0 3 target 0 0 0 up 0 1 0 fov 45\ntexture t file " + detail +
+                                        " filter trilinear\nmaterial m texture t\nquad material m v -1 -1 0 0 0 v 1 -1 0 4 0 "
+                                        "v 1 1 0 4 4 v -1 1 0 0 4 rotate -75 1 0 0 rotate 30 0 0 1 scale 2\n");
+    RunResult r = run_texr("explain " + dir + "/tilted.txt 56 8 --span affine16");
+    CHECK(r.exit_code == 0);
+    const std::size_t at = r.output.find("the lookup below reads them, with du/dx = ");
+    REQUIRE(at != std::string::npos);
+    double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0, lambda = 0;
+    REQUIRE(std::sscanf(r.output.c_str() + at, "the lookup below reads them, with du/dx = %lf dv/dx = %lf du/dy = %lf dv/dy = %lf", &dudx,
+                        &dvdx, &dudy, &dvdy) == 4);
+    const std::size_t lod = r.output.find("level of detail lambda = log2(max of the two) = ");
+    REQUIRE(lod != std::string::npos);
+    REQUIRE(std::sscanf(r.output.c_str() + lod, "level of detail lambda = log2(max of the two) = %lf", &lambda) == 1);
+    const double side = std::max(std::hypot(1024 * dudx, 1024 * dvdx), std::hypot(1024 * dudy, 1024 * dvdy));
+    CHECK(lambda == doctest::Approx(std::log2(side)).epsilon(1e-4));
+    // The exact mode reads u'/q, v'/q: no such line.
+    r = run_texr("explain " + dir + "/tilted.txt 56 8 --span exact");
+    CHECK(r.output.find("the lookup below reads them") == std::string::npos);
 }
 
 TEST_CASE("more command-line and scene mistakes: empty -o, padded --size, a folder, a comment ending in a backslash") {

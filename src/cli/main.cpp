@@ -283,9 +283,14 @@ int run_explain(const std::vector<std::string>& argv) {
     const int width = o.width > 0 ? o.width : scene.width, height = o.height > 0 ? o.height : scene.height;
     const int x = parse_coordinate(positional[1], "X", width), y = parse_coordinate(positional[2], "Y", height);
     o.explain_x = x, o.explain_y = y;
+    o.capture_uv = true;  // the (u, v) the span mode gave the pixel's lookup
     texr::RenderStats stats;
     const texr::Framebuffer fb = texr::render(scene, o, stats);
-    std::fputs(texr::describe(*fb.explanation, scene).c_str(), stdout);
+    texr::PixelExplanation e = *fb.explanation;
+    e.span_mode = o.span_mode;
+    e.uv_read = fb.uv[fb.index(x, y)];
+    e.uv_read_known = e.covered && !std::isnan(e.uv_read.x) && !std::isnan(e.uv_read.y);
+    std::fputs(texr::describe(e, scene).c_str(), stdout);
     return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "texr/texture/ewa.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/wrap.h"
 
@@ -50,7 +51,6 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
         if (!(at > 0.0)) return level(0);
         if (at >= double(last)) return level(last) + ", the coarsest";
         const int l0 = int(at);
-        if (at == double(l0)) return level(l0);
         return level(l0) + " and " + level(l0 + 1) + format(", blended %.4f of the way to the second", at - l0);
     };
     switch (s.filter) {
@@ -61,7 +61,8 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
                    (lambda > 0.0 ? ": minified without prefiltering, it can alias\n" : "\n");
         case Filter::nearest_mip_nearest:
         case Filter::bilinear_mip_nearest:
-            return "    the level nearest to lambda (0 for lambda <= 1/2, else ceil(lambda + 1/2) - 1): " +
+            return "    the level nearest to lambda (0 for lambda <= 1/2, else ceil(lambda + 1/2) - 1, at most the\n"
+                   "    coarsest): " +
                    level(minify_detail::nearest_level(last, lambda)) + "\n";
         case Filter::trilinear:
             return "    trilinear: bilinear on " + trilinear_levels(lambda) + "\n";
@@ -69,38 +70,25 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
         case Filter::ewa:
             break;
     }
-    // The footprint ellipse's principal axes, in base-level texels (footprint_axes); EWA
-    // counts a derivative vector with a NaN as no extent.
-    double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
-    if (s.filter == Filter::ewa) {
-        if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
-        if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
-    }
-    const FootprintAxes axes = footprint_axes(d1u, d1v, d2u, d2v);
+    // The footprint ellipse's principal axes, in base-level texels.
+    const FootprintAxes axes = s.filter == Filter::ewa ? ewa_axes(d, w, h) : footprint_axes(d.dudx * w, d.dvdx * h, d.dudy * w, d.dvdy * h);
     if (!(axes.major > 0.0) || !std::isfinite(axes.major))
         return "    no footprint to measure (a point, or beyond measure): bilinear on " + level(axes.major > 0.0 ? last : 0) + "\n";
     std::string out = format("    footprint ellipse (the principal axes of the derivative vectors): major %.4g, minor %.4g texels\n",
                              axes.major, axes.minor);
-    if (s.filter == Filter::anisotropic) {  // minify.cpp sample_anisotropic
-        const double ratio = axes.minor > 0.0 ? axes.major / axes.minor : double(s.max_anisotropy);
-        const int n = std::max(1, int(std::ceil(std::min(ratio, double(s.max_anisotropy)) - 1e-9)));
-        const double at = std::log2(axes.major / n);
-        return out + format("    %.0f trilinear probe(s) along the major axis (at most max_anisotropy %g), averaged; each at\n", n,
-                            s.max_anisotropy) +
-               format("    lambda = log2(major / %.0f) = %.4f: bilinear on ", n, at) + trilinear_levels(at) + "\n";
+    if (s.filter == Filter::anisotropic) {
+        const AnisotropicProbes probes = anisotropic_probes(axes.major, axes.minor, s.max_anisotropy);
+        return out + format("    %.0f trilinear probe(s) along the major axis (at most max_anisotropy %g), averaged; each at\n",
+                            probes.count, s.max_anisotropy) +
+               format("    lambda = log2(major / %.0f) = %.4f: bilinear on ", probes.count, probes.lambda) +
+               trilinear_levels(probes.lambda) + "\n";
     }
-    // ewa.cpp sample_ewa: the minor axis is stretched to major / max_anisotropy at most that
-    // eccentricity; the level is where the minor axis spans about one texel.
-    double minor = axes.minor;
-    if (!(minor * s.max_anisotropy >= axes.major)) {
-        minor = axes.major / s.max_anisotropy;
-        out += format("    the minor axis stretched to major / max_anisotropy = %.4g texels\n", minor);
-    }
-    const double at = std::max(0.0, std::log2(std::max(minor, 1e-300)));
-    out += format("    lambda = log2(minor) = %.4f: ", at);
-    if (at >= double(last)) return out + "wider than the image, bilinear on " + level(last) + ", the coarsest\n";
-    return out + "the Gaussian-weighted mean over the ellipse on " + trilinear_levels(at) + "\n";
-    return out;
+    const EwaLevel at = ewa_level(axes.major, axes.minor, s.max_anisotropy);
+    if (at.stretched) out += format("    the minor axis stretched to major / max_anisotropy = %.4g texels\n", at.minor);
+    out += format("    lambda = max(0, log2(minor)) = %.4f: ", at.lambda);
+    if (at.lambda >= double(last))
+        return out + "at or beyond the coarsest level (the ellipse would cover the image): bilinear on " + level(last) + "\n";
+    return out + "the Gaussian-weighted mean over the ellipse on " + trilinear_levels(at.lambda) + "\n";
 }
 
 }  // namespace
@@ -134,17 +122,34 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     }
 
     const double u_prime = e.h.u_prime.at(x, y), v_prime = e.h.v_prime.at(x, y), q = e.h.q.at(x, y);
-    const double u = u_prime / q, v = v_prime / q;
+    const double exact_u = u_prime / q, exact_v = v_prime / q;
     out += "\n3. At the pixel centre (the span walk steps these by the constant d/dx of each row):\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
-    out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", u, v);
-    const UVDerivatives d = uv_derivatives(e.h, u, v, q);
+    out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
+    const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
     out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
-    out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", d.dudx, d.dvdx, d.dudy, d.dvdy);
+    out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", exact_d.dudx, exact_d.dvdx, exact_d.dudy,
+                  exact_d.dvdy);
 
     if (m.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
         const int w = t.mipmap->base().width(), h = t.mipmap->base().height();
+        // The lookup reads the (u, v) the span mode gave this pixel, with the derivatives taken
+        // there (as the span walk does); from exact and incremental they differ from u'/q,
+        // v'/q by rounding alone.
+        double u = exact_u, v = exact_v;
+        UVDerivatives d = exact_d;
+        if (e.uv_read_known) {
+            u = e.uv_read.x, v = e.uv_read.y;
+            d = uv_derivatives(e.h, u, v, q);
+            const double off = std::max(std::fabs(u - exact_u) * w, std::fabs(v - exact_v) * h);
+            if (off >= 1e-6) {
+                out += std::string("\n   --span ") + span_mode_name(e.span_mode) +
+                       format(" gives this pixel u = %.10g, v = %.10g instead (%.4g texels off);\n", u, v, off) +
+                       format("   the lookup below reads them, with du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
+                              d.dudx, d.dvdx, d.dudy, d.dvdy);
+            }
+        }
         out += "\n5. Texture '" + t.name + "' (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
                filter_name(t.sampler.filter) + ", wrap " + wrap_name(t.sampler.wrap_u) + "/" + wrap_name(t.sampler.wrap_v) +
                ", " + (t.sampler.registration == Registration::cell ? "cell" : "node") + " registration):\n";
@@ -169,8 +174,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         out += format("    footprint: |d(u,v)/dx| = %.4g texels, |d(u,v)/dy| = %.4g texels\n",
                       std::sqrt(std::pow(w * d.dudx, 2) + std::pow(h * d.dvdx, 2)),
                       std::sqrt(std::pow(w * d.dudy, 2) + std::pow(h * d.dvdy, 2)));
-        out += format("    level of detail lambda = log2(max of the two) = %.4f ", lambda) +
-               (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");
+        if (lambda > -1e8)
+            out += format("    level of detail lambda = log2(max of the two) = %.4f ", lambda) +
+                   (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");
+        else  // level_of_detail's answer for a footprint of zero (or NaN) length
+            out += "    level of detail: no footprint (u and v do not change here): magnified\n";
         out += levels_read(t, d, lambda);
     }
     out += format("\n6. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);

@@ -134,29 +134,24 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     texels = 0;
     // Work in base-level texels so the axes are comparable when W != H.
     const double w = mip.base().width(), h = mip.base().height();
-    double d1u = d.dudx * w, d1v = d.dvdx * h, d2u = d.dudy * w, d2v = d.dvdy * h;
-    // A derivative vector with a NaN counts as degenerate (no extent): the other one is the
-    // footprint.
-    if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
-    if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
     // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
-    const FootprintAxes axes = footprint_axes(d1u, d1v, d2u, d2v);
+    const FootprintAxes axes = ewa_axes(d, w, h);
     const double major = axes.major;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
-    double minor = axes.minor;
-    // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of
-    // reading an unbounded number of texels).
-    if (!(minor * s.max_anisotropy >= major)) minor = major / s.max_anisotropy;
+    // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of reading an
+    // unbounded number of texels). The level: where the minor axis spans about one texel.
+    const EwaLevel at_level = ewa_level(major, axes.minor, s.max_anisotropy);
+    const double minor = at_level.minor;
     const double a1u = major * axes.major_u, a1v = major * axes.major_v;   // the major axis
     const double a2u = -minor * axes.major_v, a2v = minor * axes.major_u;  // the minor axis
-    // Level where the minor axis spans about one texel, blended with the next one. A
-    // footprint wider than the coarsest level reads that level's average, as the ellipse
-    // there would cover the whole image (and cost without bound).
+    // That level is blended with the next one. A footprint wider than the coarsest level reads
+    // that level's average, as the ellipse there would cover the whole image (and cost
+    // without bound).
     const int last = mip.level_count() - 1;
-    const double lambda = std::max(0.0, minify_detail::log2_positive(std::max(minor, 1e-300)));
+    const double lambda = at_level.lambda;
     if (lambda >= double(last)) {
         texels = 4;
         return sample_bilinear(mip.level(last), s, u, v);

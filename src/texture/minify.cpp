@@ -64,9 +64,9 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
         probes = 1;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
-    const double ratio = minor > 0.0 ? major / minor : double(s.max_anisotropy);
-    const int n = std::max(1, int(std::ceil(std::min(ratio, double(s.max_anisotropy)) - 1e-9)));
-    const double lambda = std::log2(major / n);
+    const AnisotropicProbes probe = anisotropic_probes(major, minor, s.max_anisotropy);
+    const int n = probe.count;
+    const double lambda = probe.lambda;
     // The major axis in texture coordinates.
     const double axis_u = major * axes.major_u / w, axis_v = major * axes.major_v / h;
     Color4 sum(0.0f);

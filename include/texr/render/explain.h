@@ -1,12 +1,13 @@
 // texr explain: the story of one pixel, step by step as the lecture tells it: which
 // triangle covers it, the triangle's homography M^-1 = U diag(1/w) adj(S) and its inverse M,
 // (u', v', q) at the pixel centre, u = u'/q and v = v'/q, the exact derivatives, the level
-// of detail, and the colour written.
+// of detail, the mip levels the texture's filter reads, and the colour written.
 #pragma once
 #include <array>
 #include <string>
 
 #include "texr/raster/homography.h"
+#include "texr/raster/span_modes.h"
 #include "texr/render/needs.h"
 #include "texr/scene/scene.h"
 
@@ -23,6 +24,11 @@ struct PixelExplanation {
     TextureHomography h;       // for the piece, with its UVs re-based by whole periods
     double depth = 0.0;
     Color color{0.0f};         // linear, as written to the frame
+    // The (u, v) the span walk gave the texture lookup (a span mode other than exact computes
+    // them its own way), when the caller captured them (RenderOptions::capture_uv).
+    SpanMode span_mode = SpanMode::exact;
+    bool uv_read_known = false;
+    glm::dvec2 uv_read{0.0};
 };
 
 // The explanation as text for a person reading along with the lecture.

@@ -11,11 +11,38 @@
 // so major/minor <= max_anisotropy (bounding the texels read), the level is chosen so the
 // minor axis spans about one texel, and the results of the two nearest levels are blended.
 #pragma once
+#include <algorithm>
+#include <cmath>
+
 #include "texr/raster/homography.h"
+#include "texr/texture/minify.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/sampler.h"
 
 namespace texr {
+
+// The ellipse's principal axes in base-level texels of width x height (footprint_axes); a
+// derivative vector with a NaN counts as degenerate (no extent): the other one is the
+// footprint. (sample_ewa and texr explain.)
+inline FootprintAxes ewa_axes(const UVDerivatives& d, double width, double height) {
+    double d1u = d.dudx * width, d1v = d.dvdx * height, d2u = d.dudy * width, d2v = d.dvdy * height;
+    if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
+    if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
+    return footprint_axes(d1u, d1v, d2u, d2v);
+}
+
+// For axes major >= minor (major > 0, finite): the minor axis after the eccentricity clamp
+// (stretched to major / max_anisotropy when the ellipse is more eccentric), and the level of
+// detail where that minor axis spans about one texel, lambda = max(0, log2(minor)).
+struct EwaLevel {
+    double minor, lambda;
+    bool stretched;
+};
+inline EwaLevel ewa_level(double major, double minor, float max_anisotropy) {
+    const bool stretched = !(minor * max_anisotropy >= major);
+    if (stretched) minor = major / max_anisotropy;
+    return {minor, std::max(0.0, minify_detail::log2_positive(std::max(minor, 1e-300))), stretched};
+}
 
 // `texels` receives the number of texels read.
 Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels);

@@ -45,6 +45,19 @@ struct FootprintAxes {
 };
 FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v);
 
+// Anisotropic filtering's probes for a footprint of principal axes major >= minor > 0 (in
+// base-level texels): N = min(ceil(major / minor), max_anisotropy), each a trilinear lookup
+// at lambda = log2(major / N). (sample_anisotropic and texr explain.)
+struct AnisotropicProbes {
+    int count;
+    double lambda;
+};
+inline AnisotropicProbes anisotropic_probes(double major, double minor, float max_anisotropy) {
+    const double ratio = minor > 0.0 ? major / minor : double(max_anisotropy);
+    const int n = std::max(1, int(std::ceil(std::min(ratio, double(max_anisotropy)) - 1e-9)));
+    return {n, std::log2(major / n)};
+}
+
 // Anisotropic: N = min(ceil(major / minor), max_anisotropy) trilinear probes spaced evenly
 // along the footprint's major axis (footprint_axes, in base-level texels), at
 // lambda = log2(major / N), averaged. Returns the number of probes through `probes`.
