@@ -43,7 +43,8 @@ const char* explain_help =
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
     "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
     "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
-    "texture's filter reads, and the colour.\n";
+    "texture's filter reads, and the colour. With --span other than exact, the lookup reads\n"
+    "the (u, v) that span mode gives the pixel (and its footprint there): explain says so.\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"
