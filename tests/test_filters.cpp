@@ -507,19 +507,40 @@ TEST_CASE("footprint filters stay bounded and finite for huge, infinite and NaN 
     }
 }
 
-TEST_CASE("EWA with one derivative vector NaN treats it as degenerate: a finite mean of a few texels") {
+TEST_CASE("every footprint filter takes a derivative vector with a NaN as no extent: the other one is the footprint") {
     const MipMap mip(std::make_shared<Image>(random_hdr(64, 64, 19)));
     const double nan = std::numeric_limits<double>::quiet_NaN();
     Sampler s;
-    for (const UVDerivatives& d : {UVDerivatives{0.05, 0.01, nan, 0.0}, UVDerivatives{nan, 0.0, 0.02, 0.01}}) {
-        int texels = 0;
-        const Color4 e = sample_ewa(mip, s, 0.3, 0.6, d, texels);
-        // The finite vector is the major axis (3.3 or 1.4 texels) and the minor one is
-        // stretched to a sixteenth of it: an ellipse of a few texels, on the base level.
-        CHECK(texels > 4);
-        CHECK(texels <= 20);
-        for (int c = 0; c < 4; ++c) CHECK(std::isfinite(e[c]));
+    // Each case with its NaN vector replaced by (0, 0): the answers must be the same.
+    const std::pair<UVDerivatives, UVDerivatives> cases[] = {
+        {{0.05, 0.01, nan, 0.0}, {0.05, 0.01, 0.0, 0.0}},   {{nan, 0.0, 0.02, 0.01}, {0.0, 0.0, 0.02, 0.01}},
+        {{0.2, 0.1, 0.0, nan}, {0.2, 0.1, 0.0, 0.0}},       {{0.0, nan, 0.3, 0.05}, {0.0, 0.0, 0.3, 0.05}},
+        {{0.004, 0.002, nan, nan}, {0.004, 0.002, 0.0, 0.0}}};
+    for (const auto& [with_nan, with_zero] : cases) {
+        CAPTURE(with_zero.dudx);
+        CAPTURE(with_zero.dudy);
+        const double lambda = level_of_detail(with_nan, 64, 64);
+        CHECK(lambda == level_of_detail(with_zero, 64, 64));
+        CHECK(lambda > -1e8);  // a footprint, not a point
+        int texels = 0, zero_texels = 0, probes = 0, zero_probes = 0;
+        const Color4 e = sample_ewa(mip, s, 0.3, 0.6, with_nan, texels), ez = sample_ewa(mip, s, 0.3, 0.6, with_zero, zero_texels);
+        const Color4 a = sample_anisotropic(mip, s, 0.3, 0.6, with_nan, probes),
+                     az = sample_anisotropic(mip, s, 0.3, 0.6, with_zero, zero_probes);
+        CHECK(texels == zero_texels);
+        CHECK(probes == zero_probes);
+        CHECK(probes == 16);  // a degenerate footprint: the most eccentric, max_anisotropy probes
+        for (int c = 0; c < 4; ++c) {
+            CHECK(e[c] == ez[c]);
+            CHECK(a[c] == az[c]);
+            CHECK(std::isfinite(e[c]));
+        }
     }
+    // The first two: the finite vector is the major axis (3.3 or 1.4 texels) and the minor one
+    // is stretched to a sixteenth of it: an ellipse of a few texels, on the base level.
+    int texels = 0;
+    sample_ewa(mip, s, 0.3, 0.6, cases[0].first, texels);
+    CHECK(texels > 4);
+    CHECK(texels <= 20);
 }
 
 TEST_CASE("EWA at a NaN coordinate returns a finite colour for every wrap mode") {

@@ -71,7 +71,7 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
             break;
     }
     // The footprint ellipse's principal axes, in base-level texels.
-    const FootprintAxes axes = s.filter == Filter::ewa ? ewa_axes(d, w, h) : footprint_axes(d.dudx * w, d.dvdx * h, d.dudy * w, d.dvdy * h);
+    const FootprintAxes axes = footprint_axes_of(d, w, h);
     if (!(axes.major > 0.0) || !std::isfinite(axes.major))
         return "    no footprint to measure (a point, or beyond measure): bilinear on " + level(axes.major > 0.0 ? last : 0) + "\n";
     std::string out = format("    footprint ellipse (the principal axes of the derivative vectors): major %.4g, minor %.4g texels\n",

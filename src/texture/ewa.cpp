@@ -135,7 +135,7 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // Work in base-level texels so the axes are comparable when W != H.
     const double w = mip.base().width(), h = mip.base().height();
     // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
-    const FootprintAxes axes = ewa_axes(d, w, h);
+    const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         texels = 4;

@@ -58,7 +58,7 @@ FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
 
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     const double w = mip.base().width(), h = mip.base().height();
-    const FootprintAxes axes = footprint_axes(d.dudx * w, d.dvdx * h, d.dudy * w, d.dvdy * h);
+    const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major, minor = axes.minor;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         probes = 1;

@@ -21,16 +21,6 @@
 
 namespace texr {
 
-// The ellipse's principal axes in base-level texels of width x height (footprint_axes); a
-// derivative vector with a NaN counts as degenerate (no extent): the other one is the
-// footprint. (sample_ewa and texr explain.)
-inline FootprintAxes ewa_axes(const UVDerivatives& d, double width, double height) {
-    double d1u = d.dudx * width, d1v = d.dvdx * height, d2u = d.dudy * width, d2v = d.dvdy * height;
-    if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
-    if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
-    return footprint_axes(d1u, d1v, d2u, d2v);
-}
-
 // For axes major >= minor (major > 0, finite): the minor axis after the eccentricity clamp
 // (stretched to major / max_anisotropy when the ellipse is more eccentric), and the level of
 // detail where that minor axis spans about one texel, lambda = max(0, log2(minor)).

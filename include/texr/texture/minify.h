@@ -44,6 +44,15 @@ struct FootprintAxes {
     double major_u, major_v;  // unit direction of the major axis (the minor one is perpendicular)
 };
 FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v);
+// The axes of a pixel's footprint in base-level texels of width x height. A derivative
+// vector with a NaN counts as degenerate (no extent): the other one is the footprint, as in
+// level_of_detail. (sample_anisotropic, sample_ewa and texr explain.)
+inline FootprintAxes footprint_axes_of(const UVDerivatives& d, double width, double height) {
+    double d1u = d.dudx * width, d1v = d.dvdx * height, d2u = d.dudy * width, d2v = d.dvdy * height;
+    if (std::isnan(d1u) || std::isnan(d1v)) d1u = d1v = 0.0;
+    if (std::isnan(d2u) || std::isnan(d2v)) d2u = d2v = 0.0;
+    return footprint_axes(d1u, d1v, d2u, d2v);
+}
 
 // Anisotropic filtering's probes for a footprint of principal axes major >= minor > 0 (in
 // base-level texels): N = min(ceil(major / minor), max_anisotropy), each a trilinear lookup
@@ -125,7 +134,10 @@ inline constexpr Log2Table log2_table = make_log2_table();
 [[gnu::always_inline]] inline double level_of_detail(const UVDerivatives& d, int width, int height) {
     using minify_detail::squared_texels;
     // lambda = log2(max(rho_x, rho_y)) = log2(max(rho_x^2, rho_y^2)) / 2: one log, no roots.
-    const double rho2 = std::max(squared_texels(d.dudx, d.dvdx, width, height), squared_texels(d.dudy, d.dvdy, width, height));
+    // A side with a NaN counts as none (max(0, NaN) is 0; max(r, NaN) is r), so the other
+    // side is the footprint, whichever of the two it is.
+    const double rho2 = std::max(std::max(0.0, squared_texels(d.dudx, d.dvdx, width, height)),
+                                 squared_texels(d.dudy, d.dvdy, width, height));
     return rho2 > 0.0 ? 0.5 * minify_detail::log2_positive(rho2) : -1e9;  // a point footprint: full magnification
 }
 
