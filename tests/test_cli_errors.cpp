@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 
 #include "helpers.h"
@@ -316,6 +317,13 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     CHECK(out.find("trilinear: bilinear on level 10 (1x1), the coarsest") != std::string::npos);
     out = explain(detail + " filter ewa", huge);
     CHECK(out.find("at or beyond the coarsest level (the ellipse would cover the image): bilinear on level 10 (1x1)") != std::string::npos);
+    // 2 texels per pixel (UVs 0..0.125): lambda = 1 exactly. Trilinear reads levels 1 and 2
+    // (the second with weight 0); EWA reads level 1 alone.
+    const std::string two = "v -2 -2 -2 0 0 v 2 -2 -2 0.125 0 v 2 2 -2 0.125 0.125 v -2 2 -2 0 0.125";
+    out = explain(detail + " filter trilinear", two);
+    CHECK(out.find("trilinear: bilinear on level 1 (512x512) and level 2 (256x256), blended 0.0000") != std::string::npos);
+    out = explain(detail + " filter ewa", two);
+    CHECK(out.find("= 1.0000: the Gaussian-weighted mean over the ellipse on level 1 (512x512)\n") != std::string::npos);
 
     // A square tilted away, under affine16: the span mode's (u, v) are not u'/q, v'/q, and the
     // footprint the lookup uses is taken there. The level of detail printed must be the one
@@ -335,6 +343,26 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     REQUIRE(std::sscanf(r.output.c_str() + lod, "level of detail lambda = log2(max of the two) = %lf", &lambda) == 1);
     const double side = std::max(std::hypot(1024 * dudx, 1024 * dvdx), std::hypot(1024 * dudy, 1024 * dvdy));
     CHECK(lambda == doctest::Approx(std::log2(side)).epsilon(1e-4));
+    // And those derivatives are the quotient rule's at the span mode's (u, v): du/dx =
+    // (du'/dx - u dq/dx) / q with the rows of M^-1 (section 2) and q at the centre (section 3).
+    double row[3][3], q = 0.0, u = 0.0, v = 0.0;
+    const char* const names[3] = {"    u' [", "    v' [", "    q  ["};
+    for (int k = 0; k < 3; ++k) {
+        const std::size_t line = r.output.find(names[k]);
+        REQUIRE(line != std::string::npos);
+        REQUIRE(std::sscanf(r.output.c_str() + line + std::strlen(names[k]), "%lf %lf %lf", &row[k][0], &row[k][1], &row[k][2]) == 3);
+    }
+    const std::size_t at_q = r.output.find("q = 1/w = "), at_uv = r.output.find("--span affine16 gives this pixel u = ");
+    REQUIRE(at_q != std::string::npos);
+    REQUIRE(at_uv != std::string::npos);
+    REQUIRE(std::sscanf(r.output.c_str() + at_q, "q = 1/w = %lf", &q) == 1);
+    REQUIRE(std::sscanf(r.output.c_str() + at_uv, "--span affine16 gives this pixel u = %lf, v = %lf", &u, &v) == 2);
+    CHECK(dudx == doctest::Approx((row[0][0] - u * row[2][0]) / q).epsilon(1e-4));
+    CHECK(dvdx == doctest::Approx((row[1][0] - v * row[2][0]) / q).epsilon(1e-4));
+    CHECK(dudy == doctest::Approx((row[0][1] - u * row[2][1]) / q).epsilon(1e-4));
+    CHECK(dvdy == doctest::Approx((row[1][1] - v * row[2][1]) / q).epsilon(1e-4));
+    // render's --span-tolerance is taken too.
+    CHECK(run_texr("explain " + dir + "/tilted.txt 56 8 --span adaptive --span-tolerance 0.5").exit_code == 0);
     // The exact mode reads u'/q, v'/q: no such line.
     r = run_texr("explain " + dir + "/tilted.txt 56 8 --span exact");
     CHECK(r.output.find("the lookup below reads them") == std::string::npos);

@@ -37,14 +37,15 @@ const char* main_help =
     "The scene format is described in docs/scene-format.md.\n";
 
 const char* explain_help =
-    "usage: texr explain SCENE X Y [--size WxH] [--span MODE]\n"
+    "usage: texr explain SCENE X Y [--size WxH] [--span MODE] [--span-tolerance T]\n"
     "\n"
     "Renders SCENE (nothing is written) and explains pixel (X, Y), column X from the left and\n"
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
     "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
     "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
-    "texture's filter reads, and the colour. With --span other than exact, the lookup reads\n"
-    "the (u, v) that span mode gives the pixel (and its footprint there): explain says so.\n";
+    "texture's filter reads, and the colour. The options are render's: with a --span mode\n"
+    "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
+    "exact derivatives taken there, and explain says by how much they differ.\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"
@@ -263,7 +264,7 @@ int run_explain(const std::vector<std::string>& argv) {
         }
     std::vector<std::string> positional, options;
     for (std::size_t i = 0; i < argv.size(); ++i) {
-        if (argv[i] == "--size" || argv[i] == "--span") {
+        if (argv[i] == "--size" || argv[i] == "--span" || argv[i] == "--span-tolerance") {
             if (i + 1 == argv.size()) throw UsageError{argv[i] + " needs a value (try texr explain --help)"};
             options.push_back(argv[i]);
             options.push_back(argv[++i]);
@@ -280,7 +281,7 @@ int run_explain(const std::vector<std::string>& argv) {
     const RenderArguments args = parse_render_arguments(options);
     const texr::Scene scene = texr::load_scene(args.scene);
     texr::RenderOptions o;
-    o.width = args.width, o.height = args.height, o.span_mode = args.span;
+    o.width = args.width, o.height = args.height, o.span_mode = args.span, o.span_tolerance = args.span_tolerance;
     const int width = o.width > 0 ? o.width : scene.width, height = o.height > 0 ? o.height : scene.height;
     const int x = parse_coordinate(positional[1], "X", width), y = parse_coordinate(positional[2], "Y", height);
     o.explain_x = x, o.explain_y = y;

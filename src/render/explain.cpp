@@ -47,12 +47,16 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
         const Image& image = mip.level(l);
         return "level " + std::to_string(l) + " (" + std::to_string(image.width()) + "x" + std::to_string(image.height()) + ")";
     };
-    const auto trilinear_levels = [&](double at) -> std::string {  // minify.h trilinear_over
+    // The levels read at lambda `at` (minify.h trilinear_over; trilinear reads the second level
+    // also at a whole lambda, with weight 0, where EWA reads one).
+    const auto two_levels = [&](double at, bool whole_reads_one) -> std::string {
         if (!(at > 0.0)) return level(0);
         if (at >= double(last)) return level(last) + ", the coarsest";
         const int l0 = int(at);
+        if (whole_reads_one && at == double(l0)) return level(l0);
         return level(l0) + " and " + level(l0 + 1) + format(", blended %.4f of the way to the second", at - l0);
     };
+    const auto trilinear_levels = [&](double at) { return two_levels(at, false); };
     switch (s.filter) {
         case Filter::nearest:
         case Filter::bilinear:
@@ -88,7 +92,7 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     out += format("    lambda = max(0, log2(minor)) = %.4f: ", at.lambda);
     if (at.lambda >= double(last))
         return out + "at or beyond the coarsest level (the ellipse would cover the image): bilinear on " + level(last) + "\n";
-    return out + "the Gaussian-weighted mean over the ellipse on " + trilinear_levels(at.lambda) + "\n";
+    return out + "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
 }
 
 }  // namespace
@@ -123,7 +127,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
 
     const double u_prime = e.h.u_prime.at(x, y), v_prime = e.h.v_prime.at(x, y), q = e.h.q.at(x, y);
     const double exact_u = u_prime / q, exact_v = v_prime / q;
-    out += "\n3. At the pixel centre (the span walk steps these by the constant d/dx of each row):\n";
+    out += "\n3. At the pixel centre (from the plane equations; the incremental span walk steps them by\n"
+           "   their constant d/dx along each row):\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
     const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
