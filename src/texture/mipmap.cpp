@@ -83,9 +83,10 @@ Footprints node_footprints(int n, int m, Wrap wrap) {
 }
 
 // Streams one level from `source`, a row at a time: each output row is the weighted sum of
-// the source rows under its footprint (two or three for box levels, up to four for node levels), each of those first decoded to linear
-// RGBA floats and reduced along x. Only a few rows are held in float, so building the
-// pyramid of an 8192^2 texture needs no more memory than the levels themselves.
+// the source rows under its footprint (two or three for box levels, up to four for node
+// levels), each of those first decoded to linear RGBA floats and reduced along x. Only a few
+// rows are held in float, so building the pyramid of an 8192^2 texture needs no more memory
+// than the levels themselves.
 class RowReducer {
 public:
     RowReducer(const Image& source, const Footprints& fx, const Color4& border)
