@@ -1,4 +1,6 @@
 // The same scene and options give the same bytes, whatever the thread count.
+#include <cstring>
+
 #include <doctest/doctest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -146,5 +148,45 @@ TEST_CASE("frames are byte-identical for 1, 2 and 3 threads: meshes of several c
         CHECK(fb.color == reference.color);
         CHECK(fb.depth == reference.depth);
         CHECK(stats.pixels_shaded == reference_stats.pixels_shaded);
+    }
+}
+
+TEST_CASE("a frame drawn into a reused framebuffer is the frame render returns") {
+    // The framebuffer first holds another scene's frame, larger and with every instrument on,
+    // then a smaller one; each frame drawn into it must be the bytes a fresh render gives,
+    // with no instrument left over from the frame before.
+    const Scene demo = load_scene(testing::source_path("models/demo.scene"));
+    const Scene grazing = load_scene(testing::source_path("models/bench/grazing.scene"));
+    RenderOptions instrumented;
+    instrumented.width = 120, instrumented.height = 90, instrumented.threads = 2;
+    instrumented.count_coverage = instrumented.capture_uv = true;
+    instrumented.explain_x = 60, instrumented.explain_y = 45;
+    RenderOptions plain;
+    plain.width = 97, plain.height = 61, plain.threads = 3;
+    Framebuffer reused(0, 0, Framebuffer::Uncleared{});
+    struct Step {
+        const Scene* scene;
+        const RenderOptions* options;
+    };
+    for (const Step step : {Step{&demo, &instrumented}, Step{&grazing, &plain}, Step{&demo, &plain}, Step{&grazing, &instrumented}}) {
+        RenderStats fresh_stats, reused_stats;
+        const Framebuffer fresh = render(*step.scene, *step.options, fresh_stats);
+        render(*step.scene, *step.options, reused_stats, reused);
+        CHECK(reused.width == step.options->width);
+        CHECK(reused.height == step.options->height);
+        CHECK(reused.color == fresh.color);
+        CHECK(reused.depth == fresh.depth);
+        CHECK(reused.coverage == fresh.coverage);
+        CHECK(reused.coverage.size() == (step.options->count_coverage ? reused.color.size() : 0));
+        REQUIRE(reused.uv.size() == fresh.uv.size());
+        for (std::size_t i = 0; i < reused.uv.size(); ++i)  // (NaN where no pixel was drawn)
+            CHECK(std::memcmp(&reused.uv[i], &fresh.uv[i], sizeof(glm::dvec2)) == 0);
+        CHECK(bool(reused.explanation) == (step.options->explain_x >= 0));
+        if (reused.explanation) {
+            CHECK(reused.explanation->covered == fresh.explanation->covered);
+            CHECK(reused.explanation->triangle == fresh.explanation->triangle);
+            CHECK(reused.explanation->color == fresh.explanation->color);
+        }
+        CHECK(reused_stats.pixels_shaded == fresh_stats.pixels_shaded);
     }
 }

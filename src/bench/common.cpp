@@ -56,19 +56,23 @@ double timed_median(const Scene& scene, const RenderOptions& options, int repeat
 
 void time_interleaved(std::vector<TimedCase>& cases, int repeat) {
     std::vector<std::vector<double>> times(cases.size());
-    for (TimedCase& c : cases) {
+    // Each case draws into a frame of its own, frame after frame, as a renderer would (the
+    // warm-up frame allocates it).
+    std::vector<Framebuffer> frames(cases.size(), Framebuffer(0, 0, Framebuffer::Uncleared{}));
+    for (std::size_t i = 0; i < cases.size(); ++i) {
         RenderStats warm;
-        render(*c.scene, c.options, warm);
+        render(*cases[i].scene, cases[i].options, warm, frames[i]);
     }
     for (int r = 0; r < repeat; ++r)
         for (std::size_t i = 0; i < cases.size(); ++i) {
             TimedCase& c = cases[i];
             c.stats = RenderStats{};
             const auto start = Clock::now();
-            Framebuffer frame = render(*c.scene, c.options, c.stats);
+            render(*c.scene, c.options, c.stats, frames[i]);
             times[i].push_back(ms_since(start));
-            if (c.keep_last && r + 1 == repeat) c.last = std::move(frame);
         }
+    for (std::size_t i = 0; i < cases.size(); ++i)
+        if (cases[i].keep_last) cases[i].last = std::move(frames[i]);
     for (std::size_t i = 0; i < cases.size(); ++i) cases[i].median_ms = median(times[i]);
 }
 

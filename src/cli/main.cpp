@@ -233,10 +233,10 @@ int run_render(const std::vector<std::string>& argv) {
     options.span_tolerance = args.span_tolerance;
     texr::RenderStats stats;
     std::vector<double> frame_ms;
-    texr::Framebuffer frame(1, 1, texr::Color(0.0f));
+    texr::Framebuffer frame(0, 0, texr::Framebuffer::Uncleared{});  // drawn into frame after frame
     for (int i = 0; i < args.repeat; ++i) {
         const auto start = Clock::now();
-        frame = texr::render(scene, options, stats);
+        texr::render(scene, options, stats, frame);
         frame_ms.push_back(milliseconds(Clock::now() - start));
     }
     const auto write_start = Clock::now();

@@ -149,9 +149,16 @@ constexpr std::size_t balanced_pieces = 64;
 }  // namespace
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
+    Framebuffer fb(0, 0, Framebuffer::Uncleared{});
+    render(scene, options, stats, fb);
+    return fb;
+}
+
+void render(const Scene& scene, const RenderOptions& options, RenderStats& stats, Framebuffer& fb) {
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
-    Framebuffer fb(width, height, Framebuffer::Uncleared{});  // each worker clears its own rows
+    fb.resize_uncleared(width, height);  // each worker clears its own rows
+    fb.coverage.clear(), fb.uv.clear(), fb.explanation.reset();
     if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
     if (options.capture_uv) fb.uv.assign(fb.color.size(), glm::dvec2(std::nan("")));
     if (options.explain_x >= 0 && options.explain_y >= 0 && options.explain_x < width && options.explain_y < height) {
@@ -276,7 +283,6 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
     stats.seconds_clear += clear_seconds;
     stats.seconds_vertex += vertex_seconds - clear_seconds;
     stats.seconds_raster += seconds_since(start) - vertex_seconds;
-    return fb;
 }
 
 }  // namespace texr

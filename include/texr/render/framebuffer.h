@@ -60,6 +60,14 @@ struct Framebuffer {
     struct Uncleared {};
     Framebuffer(int w, int h, Uncleared)
         : width(w), height(h), color(std::size_t(w) * std::size_t(h)), depth(std::size_t(w) * std::size_t(h)) {}
+    // The same for a frame that already exists: resized, not cleared, keeping its memory when
+    // it is large enough (a renderer drawing frame after frame then asks the system for no new
+    // pages, which it would zero first, at some 12 MB per 1024x768 frame).
+    void resize_uncleared(int w, int h) {
+        width = w, height = h;
+        color.resize(std::size_t(w) * std::size_t(h));
+        depth.resize(std::size_t(w) * std::size_t(h));
+    }
 
     void clear_rows(int first, int last, Color background);  // rows [first, last)
 

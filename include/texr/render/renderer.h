@@ -27,6 +27,10 @@ struct RenderOptions {
 };
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats);
+// The same frame, drawn into `frame`, whose buffers are reused (resized to the frame's size;
+// its coverage, (u, v) and explanation are replaced as `options` asks): for drawing frame
+// after frame. The result is the same bytes as render's.
+void render(const Scene& scene, const RenderOptions& options, RenderStats& stats, Framebuffer& frame);
 
 // Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
 // y up, looking down -z, clip z in [-w, w]).
