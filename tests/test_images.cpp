@@ -133,3 +133,35 @@ TEST_CASE("textures of one image share its box levels, node registration gets le
     CHECK(mip(7) == mip(2));  // repeat never reads the border colour
     CHECK(&mip(0)->base() == &mip(5)->base());  // one image in memory
 }
+
+TEST_CASE("a border colour is in its image's colour space: sRGB decoded for colour images, as written for data and HDR") {
+    const std::string dir = testing::scratch_folder("border-space");
+    const unsigned char grey[4 * 3] = {128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128};
+    REQUIRE(stbi_write_png((dir + "/g.png").c_str(), 2, 2, 3, grey, 2 * 3));
+    const float hdr[2 * 3] = {2.0f, 2.0f, 2.0f, 2.0f, 2.0f, 2.0f};
+    REQUIRE(stbi_write_hdr((dir + "/g.hdr").c_str(), 2, 1, 3, hdr));
+    std::istringstream text(
+        "texture colour file g.png wrap border border 0.5 0.5 1 0.25\n"
+        "texture data file g.png colorspace linear wrap border border 0.5 0.5 1 0.25\n"
+        "texture data_first file g.png border 0.5 0.5 1 0.25 wrap border colorspace linear\n"
+        "texture hdr file g.hdr wrap border border 0.5 0.5 1 0.25\n"
+        "texture unset file g.png colorspace linear wrap border\n"
+        "material m texture colour\n"
+        "triangle material m v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n");
+    const Scene scene = parse_scene(text, dir + "/s.scene");
+    REQUIRE(scene.textures.size() == 5);
+    // sRGB 0.5 is ((0.5 + 0.055) / 1.055)^2.4 = 0.21404 linear; 1 is 1.
+    const Color4 colour = scene.textures[0].sampler.border;
+    CHECK(colour.x == doctest::Approx(0.21404).epsilon(1e-4));
+    CHECK(colour.z == doctest::Approx(1.0));
+    CHECK(colour.w == 0.25f);  // alpha is never encoded
+    for (int k : {1, 2, 3}) {
+        CAPTURE(k);
+        CHECK(scene.textures[std::size_t(k)].sampler.border == Color4(0.5f, 0.5f, 1.0f, 0.25f));
+    }
+    CHECK(scene.textures[4].sampler.border == Color4(0.0f, 0.0f, 0.0f, 1.0f));  // the default
+    // And through the sampler: a data texture's border reads 0.5 where the texels read 128/255.
+    const Texture& data = scene.textures[1];
+    CHECK(sample_nearest(*data.image, data.sampler, 1.5, 0.5).x == 0.5f);
+    CHECK(sample_nearest(*data.image, data.sampler, 0.5, 0.5).x == doctest::Approx(128.0 / 255.0));
+}

@@ -217,6 +217,7 @@ private:
         t.name = c.word("a texture name");
         if (texture_index_.count(t.name)) c.fail("texture '" + t.name + "' is defined twice");
         ColorSpace space = ColorSpace::srgb;
+        glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         while (!c.done()) {
             const std::string key = c.word("a texture option");
             if (key == "file") t.path = relative_to(folder_, c.word("an image file name"));
@@ -238,8 +239,10 @@ private:
             else if (key == "wrap_u") t.sampler.wrap_u = choose(c, "wrap mode", wrap_names);
             else if (key == "wrap_v") t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
             else if (key == "border") {
-                const Color rgb = c.color("border colour");
-                t.sampler.border = Color4(rgb, float(c.number("the border alpha")));
+                border = c.vec3("border colour");
+                for (int i = 0; i < 3; ++i)
+                    if (border[i] < 0.0) c.fail("border colour must not be negative");
+                t.sampler.border.w = float(c.number("the border alpha"));
             } else if (key == "registration")
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
             else if (key == "colorspace")
@@ -248,6 +251,12 @@ private:
         }
         if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
         t.image = image(c, t.path, space);
+        // The border colour is in the texels' space: sRGB for a colour image (decoded, as every
+        // scene colour), the values themselves for data and HDR images, whose texels are read
+        // as they are (a normal map's border 0.5 0.5 1 is the normal (0, 0, 1)).
+        const bool decode = space == ColorSpace::srgb && !t.image->is_hdr();
+        for (int i = 0; i < 3; ++i)
+            t.sampler.border[i] = decode ? srgb_to_linear(float(border[i])) : float(border[i]);
         t.mipmap = mipmap(t.image, t.sampler);
         texture_index_[t.name] = int(scene_.textures.size());
         scene_.textures.push_back(std::move(t));
