@@ -7,7 +7,9 @@
 #include <random>
 #include <utility>
 
+#include "texr/scene/scene.h"
 #include "texr/texture/ewa.h"
+#include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/reconstruct.h"
@@ -758,7 +760,10 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
         for (const MipMap& mip : textures)
             for (const auto& [wrap_u, wrap_v] : wraps)
                 for (Registration registration : {Registration::cell, Registration::node}) {
-                    const double w = mip.base().width(), h = mip.base().height();
+                    // Footprints are in the base level's lattice texels: cells, or for node
+                    // registration the n - 1 spacings between its nodes (and likewise on every level).
+                    const auto lattice = [&](int n) { return registration == Registration::node ? double(n - 1) : double(n); };
+                    const double w = lattice(mip.base().width()), h = lattice(mip.base().height());
                     Sampler s;
                     s.max_anisotropy = fp.max_anisotropy;
                     s.wrap_u = wrap_u, s.wrap_v = wrap_v, s.registration = registration;
@@ -775,7 +780,7 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                     const int l0 = int(lambda);
                     const auto at = [&](int l, double u, double v) {
                         const Image& level = mip.level(l);
-                        const double kx = 0.7 * level.width() / w, ky = 0.7 * level.height() / h;
+                        const double kx = 0.7 * lattice(level.width()) / w, ky = 0.7 * lattice(level.height()) / h;
                         return ewa_level_by_definition(level, s, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky);
                     };
                     for (int k = 0; k < 2; ++k) {
@@ -800,4 +805,40 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                         for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(2e-3));
                     }
                 }
+}
+
+TEST_CASE("node registration measures footprints in spacings between nodes: one per pixel is level 0") {
+    // A 3x3 float image, 1 at the centre node and 0 elsewhere; node registration puts the
+    // nodes at u = 0, 1/2, 1, so derivatives of 1/2 per pixel are one node spacing: level of
+    // detail 0 (log2(3 x 1/2) = 0.585 if measured in n texels, which reads level 1 (2x2) or
+    // blends it in). Worked by hand at the centre node (u, v) = (1/2, 1/2):
+    //  - nearest-mip-nearest, bilinear-mip-nearest, trilinear (level 0 alone) and anisotropic
+    //    (a round footprint: one probe at lambda 0) read the centre node: 1;
+    //  - EWA at lambda 0 reads level 0 alone: the ellipse 0.7 spacings round, plus the unit
+    //    reconstruction term, gives Q = r^2 / 1.49; the centre (Q = 0, weight 1 - e^-2) and its
+    //    four neighbours (Q = 1/1.49 = 0.67114, tabulated at 85/127: weight
+    //    e^(-2 x 85/127) - e^-2 = 0.126882) are inside, the diagonals (Q = 1.342) are not:
+    //    0.864665 / (0.864665 + 4 x 0.126882) = 0.630134, from 5 texels.
+    std::vector<float> rgba(3 * 3 * 4, 0.0f);
+    for (int k = 0; k < 9; ++k) rgba[std::size_t(k) * 4 + 3] = 1.0f;
+    for (int c = 0; c < 3; ++c) rgba[4 * 4 + std::size_t(c)] = 1.0f;
+    Texture t;
+    t.image = std::make_shared<Image>(Image::hdr(3, 3, rgba));
+    t.sampler.registration = Registration::node;
+    t.sampler.wrap_u = t.sampler.wrap_v = Wrap::clamp;
+    t.mipmap = std::make_shared<MipMap>(t.image, t.sampler);
+    const UVDerivatives one_spacing{0.5, 0.0, 0.0, 0.5};
+    for (Filter f : {Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest, Filter::trilinear, Filter::anisotropic}) {
+        CAPTURE(filter_name(f));
+        t.sampler.filter = f;
+        std::uint64_t texels = 0;
+        CHECK(lookup_footprint(t, 0.5, 0.5, one_spacing, texels).x == doctest::Approx(1.0).epsilon(1e-6));
+    }
+    t.sampler.filter = Filter::ewa;
+    std::uint64_t texels = 0;
+    CHECK(lookup_footprint(t, 0.5, 0.5, one_spacing, texels).x == doctest::Approx(0.630134).epsilon(1e-5));
+    CHECK(texels == 5);
+    CHECK(lattice_texels(Registration::node, 3) == 2);
+    CHECK(lattice_texels(Registration::node, 1) == 1);
+    CHECK(lattice_texels(Registration::cell, 3) == 3);
 }

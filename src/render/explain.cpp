@@ -42,7 +42,7 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     const MipMap& mip = *t.mipmap;
     const Sampler& s = t.sampler;
     const int last = mip.level_count() - 1;
-    const double w = mip.base().width(), h = mip.base().height();
+    const double w = lattice_texels(s.registration, mip.base().width()), h = lattice_texels(s.registration, mip.base().height());
     const auto level = [&](int l) {
         const Image& image = mip.level(l);
         return "level " + std::to_string(l) + " (" + std::to_string(image.width()) + "x" + std::to_string(image.height()) + ")";
@@ -175,10 +175,13 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         const double lx = t.sampler.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
         const double ly = t.sampler.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
         out += format("    lattice coordinates (texels, before wrapping): x = %.4f, y = %.4f\n", lx, ly);
-        const double lambda = level_of_detail(d, w, h);
-        out += format("    footprint: |d(u,v)/dx| = %.4g texels, |d(u,v)/dy| = %.4g texels\n",
-                      std::sqrt(std::pow(w * d.dudx, 2) + std::pow(h * d.dvdx, 2)),
-                      std::sqrt(std::pow(w * d.dudy, 2) + std::pow(h * d.dvdy, 2)));
+        // The footprint in texels of the lattice: node registration counts node spacings.
+        const int lw = lattice_texels(t.sampler.registration, w), lh = lattice_texels(t.sampler.registration, h);
+        const double lambda = level_of_detail(d, lw, lh);
+        out += format("    footprint: |d(u,v)/dx| = %.4g texels, |d(u,v)/dy| = %.4g texels",
+                      std::sqrt(std::pow(lw * d.dudx, 2) + std::pow(lh * d.dvdx, 2)),
+                      std::sqrt(std::pow(lw * d.dudy, 2) + std::pow(lh * d.dvdy, 2))) +
+               (t.sampler.registration == Registration::node ? " (spacings between nodes)\n" : "\n");
         if (lambda > -1e8)
             out += format("    level of detail lambda = log2(max of the two) = %.4f ", lambda) +
                    (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");

@@ -57,7 +57,8 @@ FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
 }
 
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
-    const double w = mip.base().width(), h = mip.base().height();
+    // (The short path below is cell registration's only, where these are the image's size.)
+    const double w = lattice_texels(s.registration, mip.base().width()), h = lattice_texels(s.registration, mip.base().height());
     const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major, minor = axes.minor;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure

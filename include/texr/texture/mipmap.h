@@ -21,8 +21,9 @@
 // x = i r, r = (n - 1) / (m - 1), the spacing ratio: for odd n, r = 2, every other node
 // (2^k + 1 nodes give 2^(k-1) + 1); for even n, r = 2 - 2/n, and the next level has an odd
 // size (1024 nodes give 513, 257, ...). So level l's spacing is 2^l base spacings, or
-// 2^l (n - 1) / n for even n, as the level of detail assumes (ceil(n / 2) nodes would
-// make the last levels of a 1024 texture up to twice as coarse). A node's value is the mean,
+// 2^l (n - 1) / n for even n, as the level of detail, measured in base spacings
+// (sampler.h, lattice_texels), assumes (ceil(n / 2) nodes would make the last levels of a
+// 1024 texture up to twice as coarse). A node's value is the mean,
 // over [x - r/2, x + r/2], of the source level's linear interpolation between nodes: for
 // r = 2 the weights 1/4, 1/2, 1/4, for other r up to four weights. The mean of a linear
 // function over an interval is its value at the centre, so a linear ramp stays exactly

@@ -30,6 +30,12 @@ inline bool uses_footprint(Filter f) { return f >= Filter::nearest_mip_nearest; 
 
 enum class Registration { cell, node };
 
+// Texels per unit of texture coordinate along an axis of n texels, on the lattice the
+// registration reads: n cells, or n - 1 spacings between nodes (node registration puts texel
+// i at i / (n - 1); a single node counts as 1). Footprints are measured in these units, so
+// that one texel per pixel is level of detail 0 in either registration.
+inline int lattice_texels(Registration r, int n) { return r == Registration::node ? (n > 1 ? n - 1 : 1) : n; }
+
 struct Sampler {
     Filter filter = Filter::bilinear;
     Wrap wrap_u = Wrap::repeat;
