@@ -9,6 +9,9 @@
 #include <map>
 
 #include "helpers.h"
+#include "texr/core/color.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
 
 using namespace texr::testing;
 
@@ -80,6 +83,41 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("bad-camera", "camera near 5 far 1\n" + good_scene, "scene.txt:1: camera needs 0 < near < far");
     expect_failure("no-objects", "size 32 24\n", "scene has no objects");
     expect_failure("continuation", good_scene + "quad \\\n", "scene.txt:5: line ends with '\\'");
+}
+
+TEST_CASE("numbers a scene keeps but cannot use are refused: huge colours, float overflow, border alpha, cubic") {
+    // (Found by a review: a light of colour 1e17 is infinite once linear, and infinity times a
+    // zero cosine made an unlit pixel NaN, written black; 1e39 overflowed the float a vertex
+    // is kept in, and the triangle was dropped without a word.)
+    const std::string triangle = "triangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
+    expect_failure("huge-light", good_scene + "light directional 0 0 1 color 1e17 1e17 1e17\n",
+                   "scene.txt:5: light colour must be at most 10000");
+    expect_failure("huge-ambient", "ambient 10000.5 0 0\n" + good_scene, "scene.txt:1: ambient colour must be at most 10000");
+    expect_failure("huge-material", "size 32 24\nmaterial red color 0 2e4 0\n" + triangle, "scene.txt:2: material colour must be at most 10000");
+    expect_failure("huge-vertex-colour", "size 32 24\nmaterial red vertex_colors on\ntriangle material red v -1 -1 0 0 0 c 1e39 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n",
+                   "scene.txt:3: the vertex colour must be at most 10000");
+    expect_failure("float-position", "size 32 24\nmaterial red\ntriangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 1e39 0.5 1\n",
+                   "scene.txt:3: 3 numbers for the vertex position is beyond a float's range");
+    expect_failure("border-alpha", "texture t file x.png wrap border border 1 1 1 -5\n" + good_scene,
+                   "scene.txt:1: the border alpha must be between 0 and 1");
+    expect_failure("huge-border", "texture t file x.png wrap border border 1e17 0 0 1\n" + good_scene,
+                   "scene.txt:1: border colour must be at most 10000");
+    expect_failure("cubic", "texture t file x.png filter bicubic cubic 1e39 0\n" + good_scene,
+                   "scene.txt:1: the cubic's B and C must be between -10 and 10");
+    // The largest values still render, with no NaN: a light of 10000 (about 4e9 linear) on a
+    // lit triangle, and a vertex at 3e38.
+    const std::string dir = scratch_folder("largest-values");
+    write_text(dir + "/scene.txt", "size 16 16\ncamera eye 0 0 3\nambient 0.5 0.5 0.5\nlight directional 1 0 0 color 10000 10000 10000\n"
+                                   "material red color 1 0 0 lighting lambert\n" + triangle +
+                                   "triangle material red v 0 0 -3e38 0 0 v 1 0 -3e38 1 0 v 0 1 -3e38 0 1\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.ppm");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    texr::RenderStats stats;
+    const texr::Framebuffer fb = texr::render(texr::load_scene(dir + "/scene.txt"), {}, stats);
+    for (const texr::Color& c : fb.color) CHECK((std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)));
+    // The triangle's centre: lit by the ambient alone (the light grazes it), sRGB 0.5 red.
+    CHECK(fb.color[fb.index(8, 9)].x == doctest::Approx(texr::srgb_to_linear(0.5f)));
 }
 
 TEST_CASE("missing files are named with the scene line that refers to them") {
@@ -480,6 +518,9 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {triangle + "vt 0 0\nf 1/1 2/1 3/9\n", "bad.obj:5: ", "texture coordinate (vt) that does not exist"},
         {"f 1 2 9\n" + triangle, "bad.obj:1: ", "vertex that does not exist (9)"},  // (ahead of the vertices, and past them)
         {"v 0 0 1e400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "finite"},
+        // finite as a double, not as the float a position or normal is kept in
+        {"v 0 0 1e39\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "beyond a float's range"},
+        {triangle + "vn 0 -4e38 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "beyond a float's range"},
     };
     for (const Case& c : cases) {
         write_text(dir + "/bad.obj", c.obj);
@@ -498,6 +539,7 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
     // to 0, a UTF-8 byte order mark.
     for (const std::string& good : std::vector<std::string>{triangle + "f -3 -2 -1\n", "f 1 2 3\n" + triangle, "v 0 0 0#c\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
                                    "v 0 0 1e-400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", triangle + "f 1 2 3 # a comment\n",
+                                   "v 0 0 3e38\nv 1 0 0\nv 0 1 0\nvt 1e300 0\nf 1/1 2/1 3/1\n",
                                    "\xEF\xBB\xBF" + triangle + "f 1 2 3\n"}) {
         write_text(dir + "/good.obj", good);
         write_text(dir + "/scene.txt", "size 16 16\nmesh good.obj\n");

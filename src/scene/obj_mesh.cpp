@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -122,6 +123,9 @@ ObjLines read_obj_lines(const std::string& path) {
                 const std::optional<double> value = number_in(word);
                 if (!value) fail("expected a number after '" + std::string(keyword) + "', got '" + std::string(word) + "'");
                 if (!std::isfinite(*value)) fail("expected a finite number, got '" + std::string(word) + "'");
+                // Positions and normals are kept as floats (texture coordinates as doubles).
+                if (keyword != "vt" && !(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
+                    fail("'" + std::string(word) + "' is beyond a float's range (about 3.4e38)");
             }
             if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");
             if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");

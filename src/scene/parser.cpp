@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -112,12 +113,35 @@ public:
         return v;
     }
 
-    Color color(const std::string& what) {
-        // Colours in scene files are sRGB values (as a colour picker shows them), in [0, 1]
-        // or above for bright lights; texr works on their linear values.
+    // A number kept as a float (vertex positions and normals): within a float's range, which
+    // a double's finite numbers need not be.
+    float float_number(const std::string& what) {
+        const double value = number(what);
+        if (!(std::fabs(value) <= double(std::numeric_limits<float>::max())))
+            fail(what + " is beyond a float's range (about 3.4e38)");
+        return float(value);
+    }
+    glm::vec3 float_vec3(const std::string& what) {
+        glm::vec3 v;
+        for (int i = 0; i < 3; ++i) v[i] = float_number("3 numbers for " + what);
+        return v;
+    }
+
+    // Colours in scene files are sRGB values (as a colour picker shows them), in [0, 1]
+    // or above for bright lights, up to max_color; texr works on their linear values. (The
+    // bound keeps products of colours, lights and texels finite: 10000 is about 4e9 linear,
+    // where 1e17 would be infinite and turn an unlit pixel into NaN.)
+    static constexpr double max_color = 10000.0;
+    glm::dvec3 color_values(const std::string& what) {
         const glm::dvec3 c = vec3(what);
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < 3; ++i) {
             if (c[i] < 0.0) fail(what + " must not be negative");
+            if (c[i] > max_color) fail(what + " must be at most 10000");
+        }
+        return c;
+    }
+    Color color(const std::string& what) {
+        const glm::dvec3 c = color_values(what);
         return {srgb_to_linear(float(c.x)), srgb_to_linear(float(c.y)), srgb_to_linear(float(c.z))};
     }
 
@@ -226,8 +250,10 @@ private:
                 for (int f = 0; f < filter_count; ++f) filters[filter_name(Filter(f))] = Filter(f);
                 t.sampler.filter = choose(c, "filter", filters);
             } else if (key == "cubic") {
-                t.sampler.cubic_b = float(c.number("the cubic's B"));
-                t.sampler.cubic_c = float(c.number("the cubic's C"));
+                const double b = c.number("the cubic's B"), cc = c.number("the cubic's C");
+                // (B and C are usually within [0, 1]; far outside, the weights grow without bound)
+                if (!(std::fabs(b) <= 10.0 && std::fabs(cc) <= 10.0)) c.fail("the cubic's B and C must be between -10 and 10");
+                t.sampler.cubic_b = float(b), t.sampler.cubic_c = float(cc);
             } else if (key == "clamp_overshoot")
                 t.sampler.clamp_overshoot = choose<bool>(c, "clamp_overshoot setting", {{"on", true}, {"off", false}});
             else if (key == "max_anisotropy") {
@@ -239,10 +265,10 @@ private:
             else if (key == "wrap_u") t.sampler.wrap_u = choose(c, "wrap mode", wrap_names);
             else if (key == "wrap_v") t.sampler.wrap_v = choose(c, "wrap mode", wrap_names);
             else if (key == "border") {
-                border = c.vec3("border colour");
-                for (int i = 0; i < 3; ++i)
-                    if (border[i] < 0.0) c.fail("border colour must not be negative");
-                t.sampler.border.w = float(c.number("the border alpha"));
+                border = c.color_values("border colour");
+                const double alpha = c.number("the border alpha");
+                if (!(alpha >= 0.0 && alpha <= 1.0)) c.fail("the border alpha must be between 0 and 1");
+                t.sampler.border.w = float(alpha);
             } else if (key == "registration")
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
             else if (key == "colorspace")
@@ -428,12 +454,12 @@ private:
             if (key == "v") {
                 if (int(mesh.vertices.size()) == corners) c.fail(what + " has more than " + std::to_string(corners) + " vertices");
                 Vertex v;
-                v.position = glm::vec3(c.vec3("the vertex position"));
+                v.position = c.float_vec3("the vertex position");
                 v.uv = {c.number("the vertex u"), c.number("the vertex v")};
                 mesh.vertices.push_back(v);
             } else if (key == "n" || key == "c") {
                 if (mesh.vertices.empty()) c.fail("'" + key + "' belongs after a vertex 'v x y z u v'");
-                if (key == "n") { mesh.vertices.back().normal = glm::vec3(c.vec3("the vertex normal")); any_normal = true; }
+                if (key == "n") { mesh.vertices.back().normal = c.float_vec3("the vertex normal"); any_normal = true; }
                 else { mesh.vertices.back().color = c.color("the vertex colour"); mesh.has_colors = true; }
             } else if (!object_option(c, key, object, material)) {
                 c.fail("unknown " + what + " option '" + key + "' (expected v, n, c, material, cull, translate, rotate or scale)");
