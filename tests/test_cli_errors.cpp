@@ -588,3 +588,34 @@ TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("scene.txt:2: material 'paint' is already defined: line 1's OBJ file uses it") != std::string::npos);
 }
+
+TEST_CASE("scene files with a byte order mark or a NUL byte; explain lines of any length; bench --size messages") {
+    // A UTF-8 byte order mark before the first command is skipped (it made 'size' unknown).
+    const std::string dir = scratch_folder("bom-nul");
+    write_text(dir + "/scene.txt", "\xEF\xBB\xBF" + good_scene);
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+    // A NUL byte is refused at its line (a message quoting it was cut short there).
+    expect_failure("nul", good_scene + std::string("material m color 1 1 1\0 0\n", 27), "scene.txt:5: a NUL byte");
+    // explain formats each line whole: %.4f of a lattice coordinate near 1e300 is over 300
+    // characters, and the line's "y = " and newline were lost past 255.
+    write_text(dir + "/huge.txt", "size 64 48\ntexture t file " + source_path("models/textures/checker.png") +
+                                      "\nmaterial m texture t\n"
+                                      "triangle material m v -1 -1 0 -1e300 0 v 1 -1 0 1e300 0 v 0 1 0 0 1e300\n");
+    const RunResult r = run_texr("explain " + dir + "/huge.txt 32 30");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    const std::size_t at = r.output.find("lattice coordinates (texels, before wrapping): x = ");
+    REQUIRE(at != std::string::npos);
+    const std::string line = r.output.substr(at, r.output.find('\n', at) - at);
+    CHECK(line.size() > 300);
+    CHECK(line.find(", y = ") != std::string::npos);
+    CHECK(r.output.find("\n    footprint: ", at) != std::string::npos);  // the next line starts a line
+    // texr bench --size quotes the whole value and the real limit.
+    for (const char* size : {"10x10x10", "0x0", "20000x10"}) {
+        const RunResult b = run_texr(std::string("bench --size ") + size + " --out " + dir);
+        CAPTURE(b.output);
+        CHECK(b.exit_code == 2);
+        CHECK(b.output.find(std::string("got '") + size + "'") != std::string::npos);
+        CHECK(b.output.find("from 1 to 16384") != std::string::npos);
+    }
+}

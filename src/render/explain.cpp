@@ -14,9 +14,13 @@ namespace texr {
 namespace {
 
 std::string format(const char* pattern, double a = 0, double b = 0, double c = 0, double d = 0) {
-    char buffer[256];
-    std::snprintf(buffer, sizeof buffer, pattern, a, b, c, d);
-    return buffer;
+    // As long as it needs to be: %.4f of a coordinate near 1e300 is some 300 characters.
+    const int length = std::snprintf(nullptr, 0, pattern, a, b, c, d);
+    if (length <= 0) return "";
+    std::string out(std::size_t(length) + 1, '\0');
+    std::snprintf(out.data(), out.size(), pattern, a, b, c, d);
+    out.pop_back();
+    return out;
 }
 
 std::string matrix(const glm::dmat3& m, const char* const rows[3]) {

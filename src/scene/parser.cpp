@@ -65,6 +65,9 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
     while (std::getline(in, raw)) {
         ++number;
         if (pending.empty()) start = number;
+        if (number == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);  // a UTF-8 byte order mark
+        // (A NUL would cut every message that quotes the line short.)
+        if (raw.find('\0') != std::string::npos) throw InputError(file, number, "a NUL byte: is this a scene file?");
         if (!raw.empty() && raw.back() == '\r') raw.pop_back();
         raw = without_comment(raw);  // a '\\' inside a comment does not continue the line
         while (!raw.empty() && (raw.back() == ' ' || raw.back() == '\t')) raw.pop_back();

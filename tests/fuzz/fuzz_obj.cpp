@@ -28,5 +28,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         texr::render(scene, options, stats);
     } catch (const texr::InputError&) {
     }
+    std::remove(path.c_str());  // (left behind, one per run, they piled up in /tmp)
     return 0;
 }
