@@ -619,3 +619,32 @@ TEST_CASE("scene files with a byte order mark or a NUL byte; explain lines of an
         CHECK(b.output.find("from 1 to 16384") != std::string::npos);
     }
 }
+
+TEST_CASE("a folder or a device named as a mesh, texture or scene is refused at once, by name") {
+    // (A review's `mesh /dev/zero` read for four minutes into 16.8 GB before running out of
+    // memory; `mesh .` said the OBJ file had no faces.)
+    const std::string dir = scratch_folder("not-files");
+    for (const auto& [line, expected] : {std::pair<std::string, std::string>{"mesh /dev/zero\n", "/dev/zero: is a device, not an OBJ file"},
+                                         {"mesh .\n", "is a folder, not an OBJ file"},
+                                         {"texture t file /dev/zero\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
+                                          "/dev/zero: is a device, not an image file"},
+                                         {"texture t file .\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
+                                          "is a folder, not an image file"}}) {
+        write_text(dir + "/scene.txt", "size 16 16\n" + line);
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(line);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(expected) != std::string::npos);
+        CHECK(r.output.find("scene.txt:2") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+    const RunResult r = run_texr("render /dev/null -o " + dir + "/out.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("/dev/null: is a device, not a scene file") != std::string::npos);
+    // A scene from a pipe is read.
+    write_text(dir + "/scene.txt", good_scene);
+    const std::string piped = "cat " + dir + "/scene.txt | " + TEXR_BINARY + " render /dev/stdin -o " + dir + "/piped.png > /dev/null 2>&1";
+    CHECK(std::system(piped.c_str()) == 0);
+    CHECK(file_exists(dir + "/piped.png"));
+}

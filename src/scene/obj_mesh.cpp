@@ -170,6 +170,7 @@ ObjLines read_obj_lines(const std::string& path) {
 }  // namespace
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
+    require_file(path, "an OBJ file");
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open OBJ file");
     const ObjLines lines = read_obj_lines(path);  // (also refuses bad lines, naming them)
     tinyobj::attrib_t attrib;

@@ -8,7 +8,6 @@
 #include <map>
 #include <sstream>
 #include <tuple>
-#include <sys/stat.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -531,8 +530,7 @@ Scene parse_scene(std::istream& in, const std::string& path) {
 }
 
 Scene load_scene(const std::string& path) {
-    struct stat info {};
-    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) throw InputError(path, 0, "is a folder, not a scene file");
+    require_file(path, "a scene file");
     std::ifstream in(path);
     if (!in) throw InputError(path, 0, "cannot open scene file");
     return parse_scene(in, path);

@@ -58,6 +58,7 @@ std::vector<T> flipped_rows(const T* top_down, int width, int height) {
 }  // namespace
 
 Image load_image(const std::string& path, ColorSpace space) {
+    require_file(path, "an image file");
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open image file");
     int width = 0, height = 0, channels = 0;
     if (stbi_is_hdr(path.c_str())) {

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <sys/stat.h>
+
 namespace texr {
 
 class InputError : public std::runtime_error {
@@ -25,5 +27,15 @@ private:
     std::string file_;
     int line_;
 };
+
+// Refuses a path that names a folder or a device rather than a file (`kind`: "an OBJ file"):
+// a folder read as a file is empty, and /dev/zero never ends. (A pipe is read: a scene can
+// come from one.) A path that does not exist passes here; opening it says so.
+inline void require_file(const std::string& path, const std::string& kind) {
+    struct stat info {};
+    if (::stat(path.c_str(), &info) != 0) return;
+    if (S_ISDIR(info.st_mode)) throw InputError(path, 0, "is a folder, not " + kind);
+    if (S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode)) throw InputError(path, 0, "is a device, not " + kind);
+}
 
 }  // namespace texr
