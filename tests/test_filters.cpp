@@ -829,7 +829,7 @@ TEST_CASE("node registration measures footprints in spacings between nodes: one 
     t.mipmap = std::make_shared<MipMap>(t.image, t.sampler);
     const UVDerivatives one_spacing{0.5, 0.0, 0.0, 0.5};
     for (Filter f : {Filter::nearest_mip_nearest, Filter::bilinear_mip_nearest, Filter::trilinear, Filter::anisotropic}) {
-        CAPTURE(filter_name(f));
+        CAPTURE(std::string(filter_name(f)));
         t.sampler.filter = f;
         std::uint64_t texels = 0;
         CHECK(lookup_footprint(t, 0.5, 0.5, one_spacing, texels).x == doctest::Approx(1.0).epsilon(1e-6));

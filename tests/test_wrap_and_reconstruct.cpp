@@ -3,7 +3,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
+
+#include <glm/common.hpp>
 
 #include "texr/texture/reconstruct.h"
 #include "texr/texture/wrap.h"
@@ -333,4 +337,147 @@ TEST_CASE("a NaN coordinate with border wrap reads the border colour in both reg
             CHECK(sample(image, sampler(f, Wrap::border, r), 0.5, nan).x == 9.0f);
             CHECK(sample(image, sampler(f, Wrap::clamp, r), nan, 0.5).x == 3.0f);
         }
+}
+
+namespace {
+
+// The Mitchell-Netravali kernel as the 1988 paper writes it (piecewise cubic in |x|).
+double kernel(double x, double b, double c) {
+    x = std::fabs(x);
+    if (x < 1.0) return ((12.0 - 9.0 * b - 6.0 * c) * x * x * x + (-18.0 + 12.0 * b + 6.0 * c) * x * x + (6.0 - 2.0 * b)) / 6.0;
+    if (x < 2.0) return ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x + (8.0 * b + 24.0 * c)) / 6.0;
+    return 0.0;
+}
+
+// Bicubic by definition: the 4x4 texels around the lattice position, each through the wrap
+// rules on texel indices (wrap_index, checked against OpenGL's in this file), the border
+// colour for an index beyond the image; node registration with border wrap first applies
+// the slide's test; the overshoot clamp to the range of the 2x2 texels around the position.
+Color4 bicubic_by_definition(const Image& image, const Sampler& s, double u, double v) {
+    const bool node = s.registration == Registration::node;
+    const auto outside = [&](Wrap wrap, double t) { return node && wrap == Wrap::border && !(t >= 0.0 && t <= 1.0); };
+    if (outside(s.wrap_u, u) || outside(s.wrap_v, v)) return s.border;
+    // Node registration with repeat reads each period like [0, 1) (the slide's t = u - floor(u)),
+    // so the seam node is texel n - 1 of a period, and taps beyond it wrap from there.
+    if (node && s.wrap_u == Wrap::repeat) u -= std::floor(u);
+    if (node && s.wrap_v == Wrap::repeat) v -= std::floor(v);
+    const int w = image.width(), h = image.height();
+    const double x = node ? u * (w - 1) : u * w - 0.5, y = node ? v * (h - 1) : v * h - 0.5;
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const auto texel = [&](double i, double j) {
+        const int column = wrap_index(s.wrap_u, int(i), w, node), row = wrap_index(s.wrap_v, int(j), h, node);
+        return column < 0 || row < 0 ? s.border : image.texel(column, row);
+    };
+    Color4 sum(0.0f);
+    for (int b = -1; b <= 2; ++b)
+        for (int a = -1; a <= 2; ++a)
+            sum += float(kernel(x - (x0 + a), s.cubic_b, s.cubic_c) * kernel(y - (y0 + b), s.cubic_b, s.cubic_c)) * texel(x0 + a, y0 + b);
+    if (s.clamp_overshoot) {
+        Color4 low(1e30f), high(-1e30f);
+        for (int b = 0; b <= 1; ++b)
+            for (int a = 0; a <= 1; ++a) low = glm::min(low, texel(x0 + a, y0 + b)), high = glm::max(high, texel(x0 + a, y0 + b));
+        sum = glm::clamp(sum, low, high);
+    }
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("bicubic matches its definition for every wrap pair, both registrations, several (B, C), with and without the clamp") {
+    // A 5x3 image of random values (distinct per channel), coordinates from -3 to 4 and near
+    // 1e7 (|x| within the int range of the reference's indices after wrapping).
+    std::vector<float> rgba;
+    std::uint64_t state = 12345;
+    const auto next = [&] { return float((state = state * 6364136223846793005ULL + 1442695040888963407ULL) >> 40) / float(1 << 24); };
+    for (int k = 0; k < 5 * 3; ++k) rgba.insert(rgba.end(), {next(), next(), next(), 1.0f});
+    const Image image = Image::hdr(5, 3, rgba);
+    const Wrap wraps[] = {Wrap::repeat, Wrap::mirror, Wrap::clamp, Wrap::border};
+    const std::pair<float, float> cubics[] = {{0.0f, 0.5f}, {1.0f, 0.0f}, {1.0f / 3.0f, 1.0f / 3.0f}, {0.5f, 0.25f}};
+    int checked = 0;
+    for (Wrap wu : wraps)
+        for (Wrap wv : wraps)
+            for (Registration r : {Registration::cell, Registration::node})
+                for (const auto& [b, c] : cubics)
+                    for (bool clamp : {false, true}) {
+                        Sampler s;
+                        s.filter = Filter::bicubic;
+                        s.wrap_u = wu, s.wrap_v = wv, s.registration = r;
+                        s.cubic_b = b, s.cubic_c = c, s.clamp_overshoot = clamp;
+                        s.border = {0.9f, -0.3f, 2.0f, 0.5f};
+                        for (int k = 0; k < 40; ++k) {
+                            const double u = -3.0 + 7.0 * next(), v = -3.0 + 7.0 * next();
+                            // Far out along u for the periodic modes, by a whole number of
+                            // periods (exact there: 1e7 + a fraction): the same texels.
+                            const bool periodic = wu == Wrap::repeat || wu == Wrap::mirror;
+                            const double far_u = periodic && k % 4 == 0 ? u + 1e7 : u;
+                            const Color4 got = sample_bicubic(image, s, far_u, v), expected = bicubic_by_definition(image, s, u, v);
+                            CAPTURE(int(wu));
+                            CAPTURE(int(wv));
+                            CAPTURE(int(r));
+                            CAPTURE(b);
+                            CAPTURE(clamp);
+                            CAPTURE(far_u);
+                            CAPTURE(v);
+                            for (int ch = 0; ch < 4; ++ch) CHECK(got[ch] == doctest::Approx(expected[ch]).epsilon(1e-4));
+                            ++checked;
+                        }
+                    }
+    CHECK(checked == 16 * 2 * 4 * 2 * 40);
+}
+
+TEST_CASE("node registration with border wrap: every filter reads the border colour outside [0, 1], the image at 0 and 1") {
+    // The slide: if (u < 0 || u > 1 || v < 0 || v > 1) return backgroundColor. A 3x1 white
+    // image (the review's case): nearest read the border at u = -0.01, bilinear 0.98 white and
+    // bicubic 0.99 white.
+    const Image white = grey_image(3, 1, {1.0f, 1.0f, 1.0f});
+    for (Filter f : {Filter::nearest, Filter::bilinear, Filter::bicubic}) {
+        CAPTURE(std::string(filter_name(f)));
+        Sampler s = sampler(f, Wrap::border, Registration::node);
+        s.border = {0.0f, 0.0f, 0.0f, 1.0f};
+        const auto at = [&](double u, double v) {
+            return f == Filter::bicubic ? sample_bicubic(white, s, u, v) : sample(white, s, u, v);
+        };
+        for (double u : {-0.01, -1e-12, 1.0 + 1e-12, 1.2, -5.0})
+            CHECK(at(u, 0.5) == s.border);
+        CHECK(at(0.5, -0.01) == s.border);
+        // (At the nodes: bicubic between them reads the border as a neighbour, as every filter
+        // reads the taps beyond the image.)
+        for (double u : {0.0, 0.5, 1.0}) CHECK(grey(at(u, 0.5)) == doctest::Approx(1.0));
+        // Along an axis that is not border, the test does not apply.
+        s.wrap_v = Wrap::clamp;
+        CHECK(grey(at(0.5, -0.5)) == doctest::Approx(1.0));
+    }
+}
+
+TEST_CASE("the short path is taken only for repeat on both axes and power-of-two sides, and reads what the general path reads") {
+    // 8-bit images: a 4x4 (short path with repeat on both axes) and a 4x3 (height not a power
+    // of two: general path). Nearest and bilinear with repeat on u and clamp on v against the
+    // same image as floats (always the general path), beyond [0, 1] on both axes.
+    for (const auto& [w, h] : {std::pair<int, int>{4, 4}, {4, 3}, {8, 2}}) {
+        std::vector<std::uint8_t> bytes;
+        std::vector<float> floats;
+        for (int k = 0; k < w * h; ++k) {
+            const std::uint8_t value = std::uint8_t(17 * k + 3);
+            bytes.insert(bytes.end(), {value, std::uint8_t(255 - value), std::uint8_t(value / 2), 255});
+            floats.insert(floats.end(), {value / 255.0f, (255 - value) / 255.0f, (value / 2) / 255.0f, 1.0f});
+        }
+        const Image ldr = Image::ldr(w, h, ColorSpace::linear, bytes), hdr = Image::hdr(w, h, floats);
+        for (Wrap wrap_v : {Wrap::repeat, Wrap::clamp, Wrap::mirror})
+            for (Filter f : {Filter::nearest, Filter::bilinear}) {
+                Sampler s = sampler(f, Wrap::repeat, Registration::cell);
+                s.wrap_v = wrap_v;
+                const bool power_of_two = (w & (w - 1)) == 0 && (h & (h - 1)) == 0;
+                CHECK(takes_short_path(ldr, s) == (power_of_two && wrap_v == Wrap::repeat));
+                for (double u : {-1.3, -0.2, 0.1, 0.6, 1.45})
+                    for (double v : {-1.3, -0.2, 0.1, 0.6, 1.45}) {
+                        CAPTURE(w);
+                        CAPTURE(h);
+                        CAPTURE(int(wrap_v));
+                        CAPTURE(u);
+                        CAPTURE(v);
+                        const Color4 a = sample(ldr, s, u, v), b = sample(hdr, s, u, v);
+                        for (int ch = 0; ch < 3; ++ch) CHECK(a[ch] == doctest::Approx(b[ch]).epsilon(1e-5));
+                    }
+            }
+    }
 }
