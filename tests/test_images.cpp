@@ -165,3 +165,59 @@ TEST_CASE("a border colour is in its image's colour space: sRGB decoded for colo
     CHECK(sample_nearest(*data.image, data.sampler, 1.5, 0.5).x == 0.5f);
     CHECK(sample_nearest(*data.image, data.sampler, 0.5, 0.5).x == doctest::Approx(128.0 / 255.0));
 }
+
+TEST_CASE("--spp: the ground truth is the mean of spp x spp bilinear lookups at stratified sub-pixel centres") {
+    // An 8x8 data image, 0 but for texel (2, 2) = 1, on a square that fills a 4x4 frame
+    // exactly (fov 90 at distance 1): each pixel covers 2x2 texels. With spp 4 the samples
+    // of pixel column 1 sit at texel x = 2.25, 2.75, 3.25, 3.75; bilinear (cell registration,
+    // lattice x - 1/2) reads there 0.75, 0.75, 0.25, 0 of the white column: mean 0.4375. Rows
+    // likewise (row 2 from the top covers texel rows 2..3 from the bottom), so pixel (1, 2)
+    // is 0.4375^2 = 0.19140625. Pixel (0, 2): x = 0.25 .. 1.75 read 0, 0, 0, 0.25: 0.0625,
+    // times 0.4375 = 0.02734375; pixel (1, 3) the same by symmetry; pixel (2, 1): 0.
+    // (Nearest lookups would give 0.25 at pixel (1, 2), samples on the pixel's corners 0.25,
+    // a single row of samples per pixel 0.21875.)
+    const std::string dir = testing::scratch_folder("spp-truth");
+    std::vector<unsigned char> pixels(8 * 8 * 3, 0);
+    const int file_row = 7 - 2;  // v = 0 is the image's bottom row
+    for (int c = 0; c < 3; ++c) pixels[std::size_t(file_row * 8 + 2) * 3 + std::size_t(c)] = 255;
+    REQUIRE(stbi_write_png((dir + "/dot.png").c_str(), 8, 8, 3, pixels.data(), 8 * 3));
+    std::istringstream text(
+        "size 4 4\n"
+        "camera eye 0 0 1 target 0 0 0 up 0 1 0 fov 90\n"
+        "texture t file dot.png colorspace linear filter nearest\n"
+        "material m texture t\n"
+        "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n");
+    const Scene scene = parse_scene(text, dir + "/s.scene");
+    RenderOptions options;
+    options.spp = 4;
+    RenderStats stats;
+    const Framebuffer fb = render(scene, options, stats);
+    const auto at = [&](int x, int y) { return fb.color[fb.index(x, y)].x; };
+    CHECK(at(1, 2) == doctest::Approx(0.19140625).epsilon(1e-5));
+    CHECK(at(0, 2) == doctest::Approx(0.02734375).epsilon(1e-5));
+    CHECK(at(1, 3) == doctest::Approx(0.02734375).epsilon(1e-5));
+    CHECK(at(2, 1) == doctest::Approx(0.0).scale(1.0));
+    CHECK(stats.texels_fetched == 16u * 4u * 16u);  // 16 pixels, 16 bilinear samples of 4 texels each
+    // The same frame without --spp reads the texture's own filter (nearest) at pixel centres:
+    // pixel (1, 2)'s centre is texel corner (3, 3), which nearest reads as texel (3, 3): 0.
+    options.spp = 1;
+    CHECK(render(scene, options, stats).color[fb.index(1, 2)].x == 0.0f);
+}
+
+TEST_CASE("a scene whose textures are never minified builds no mip levels") {
+    // Through the parser (the in-code test above builds its Scene by hand): a trilinear
+    // texture on a square seen close up, magnified everywhere.
+    std::istringstream text(
+        "size 64 64\n"
+        "camera eye 0 0 1 target 0 0 0 up 0 1 0 fov 90\n"
+        "texture t file textures/checker.png filter trilinear\n"
+        "texture unused file textures/detail.png filter ewa\n"
+        "material m texture t\n"
+        "quad material m v -1 -1 0 0 0 v 1 -1 0 0.01 0 v 1 1 0 0.01 0.01 v -1 1 0 0 0.01\n");
+    const Scene scene = parse_scene(text, testing::source_path("models/textures.scene"));
+    RenderStats stats;
+    render(scene, {}, stats);
+    CHECK(stats.pixels_shaded == 64u * 64u);
+    CHECK_FALSE(scene.textures[0].mipmap->built());
+    CHECK_FALSE(scene.textures[1].mipmap->built());
+}
