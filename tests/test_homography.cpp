@@ -153,6 +153,28 @@ TEST_CASE("collinear and coincident UVs give finite values, and no forward map")
     }
 }
 
+TEST_CASE("the forward map exists for UVs of any scale that are not collinear, and maps each UV to its vertex") {
+    // With UVs near 1e300 the determinant of M^-1 overflowed and the forward map was refused
+    // ("the UVs are collinear", found by a review). M (u_i, v_i, 1) must be a multiple of
+    // (x_i, y_i, 1) at each vertex, whatever the scale; collinear UVs at that scale still
+    // have none.
+    const std::array<glm::dvec2, 3> screen{glm::dvec2(10, 10), glm::dvec2(200, 30), glm::dvec2(60, 180)};
+    const std::array<double, 3> inv_w{1.0, 0.25, 0.5};
+    for (double scale : {1e-300, 1e-5, 1.0, 1e7, 1e150, 1e300}) {
+        CAPTURE(scale);
+        const std::array<glm::dvec2, 3> uv{glm::dvec2(-1, 0) * scale, glm::dvec2(1, 0.5) * scale, glm::dvec2(0, 1) * scale};
+        const auto forward = texture_homography(screen, inv_w, uv).forward();
+        REQUIRE(forward.has_value());
+        for (int i = 0; i < 3; ++i) {
+            const glm::dvec3 p = *forward * glm::dvec3(uv[std::size_t(i)], 1.0);
+            CHECK(p.x / p.z == doctest::Approx(screen[std::size_t(i)].x).epsilon(1e-9));
+            CHECK(p.y / p.z == doctest::Approx(screen[std::size_t(i)].y).epsilon(1e-9));
+        }
+        const std::array<glm::dvec2, 3> collinear{glm::dvec2(0, 0), glm::dvec2(1, 1) * scale, glm::dvec2(3, 3) * scale};
+        CHECK_FALSE(texture_homography(screen, inv_w, collinear).forward().has_value());
+    }
+}
+
 TEST_CASE("exact derivatives by the quotient rule match central differences of the exact map") {
     std::mt19937_64 rng(4);
     for (int trial = 0; trial < 100; ++trial) {

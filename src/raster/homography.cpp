@@ -2,6 +2,7 @@
 #include "texr/raster/homography.h"
 
 #include <cmath>
+#include <limits>
 #include <glm/matrix.hpp>
 
 namespace texr {
@@ -31,13 +32,23 @@ glm::dmat3 TextureHomography::inverse() const {
 
 std::optional<glm::dmat3> TextureHomography::forward() const {
     const glm::dmat3 m = inverse();
-    const double det = glm::determinant(m);
-    // Relative test: collinear UVs make M^-1 singular up to rounding.
-    double scale = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) scale = std::max(scale, std::fabs(m[c][r]));
-    if (!(std::fabs(det) > 1e-12 * scale * scale * scale)) return std::nullopt;
-    return glm::inverse(m);
+    // Collinear UVs make the rows u', v', q of M^-1 linearly dependent. The test is on the rows
+    // each divided by its largest entry (D^-1 M^-1, D = diag of those), so that neither the
+    // rows' scales nor overflow decide it: with UVs near 1e300 the q row is 1e-300 of the
+    // others, and the plain determinant and the old bound scale^3 were both infinite, so UVs
+    // that are not collinear read as such. M = (D N)^-1 = N^-1 D^-1: column i of N^-1 over d_i.
+    double row_scale[3] = {0.0, 0.0, 0.0};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) row_scale[r] = std::max(row_scale[r], std::fabs(m[c][r]));
+    glm::dmat3 normalised = m;
+    for (int r = 0; r < 3; ++r) {
+        if (!(row_scale[r] > 0.0 && row_scale[r] <= std::numeric_limits<double>::max())) return std::nullopt;
+        for (int c = 0; c < 3; ++c) normalised[c][r] /= row_scale[r];
+    }
+    if (!(std::fabs(glm::determinant(normalised)) > 1e-12)) return std::nullopt;
+    glm::dmat3 forward = glm::inverse(normalised);
+    for (int c = 0; c < 3; ++c) forward[c] /= row_scale[c];
+    return forward;
 }
 
 }  // namespace texr
