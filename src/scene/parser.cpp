@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <sstream>
 #include <tuple>
 
@@ -301,6 +302,8 @@ private:
             return loaded;
         } catch (const InputError& e) {
             c.fail(context + e.what());
+        } catch (const std::bad_alloc&) {  // a huge image: say which
+            c.fail(context + path + ": out of memory reading the image");
         }
     }
 
@@ -438,6 +441,8 @@ private:
         } catch (const InputError& e) {
             if (e.file() == file_) throw;  // already names this line (from the material resolver)
             c.fail(e.what());
+        } catch (const std::bad_alloc&) {  // a huge mesh: say which
+            c.fail(path + ": out of memory reading the OBJ file");
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
