@@ -589,7 +589,7 @@ TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default
     CHECK(r.output.find("scene.txt:2: material 'paint' is already defined: line 1's OBJ file uses it") != std::string::npos);
 }
 
-TEST_CASE("scene files with a byte order mark or a NUL byte; explain lines of any length; bench --size messages") {
+TEST_CASE("scene files with a byte order mark or a NUL byte, explain lines of any length, bench --size messages") {
     // A UTF-8 byte order mark before the first command is skipped (it made 'size' unknown).
     const std::string dir = scratch_folder("bom-nul");
     write_text(dir + "/scene.txt", "\xEF\xBB\xBF" + good_scene);
