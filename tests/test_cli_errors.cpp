@@ -8,6 +8,8 @@
 #include <cstring>
 #include <map>
 
+#include <stb_image_write.h>
+
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/render/renderer.h"
@@ -620,16 +622,22 @@ TEST_CASE("scene files with a byte order mark or a NUL byte, explain lines of an
     }
 }
 
-TEST_CASE("a folder or a device named as a mesh, texture or scene is refused at once, by name") {
+TEST_CASE("a folder or a device named as a mesh, texture, .mtl or scene is refused at once, by name") {
     // (A review's `mesh /dev/zero` read for four minutes into 16.8 GB before running out of
-    // memory; `mesh .` said the OBJ file had no faces.)
+    // memory; `mesh .` said the OBJ file had no faces. /dev/null stands for every device
+    // here: were the check gone, it would fail at once, not read forever.)
     const std::string dir = scratch_folder("not-files");
-    for (const auto& [line, expected] : {std::pair<std::string, std::string>{"mesh /dev/zero\n", "/dev/zero: is a device, not an OBJ file"},
+    std::system(("mkdir -p " + dir + "/sub && ln -s /dev/null " + dir + "/dev.mtl").c_str());
+    write_text(dir + "/lib.obj", "mtllib dev.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text(dir + "/folder-lib.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib sub\nf 1 2 3\n");
+    for (const auto& [line, expected] : {std::pair<std::string, std::string>{"mesh /dev/null\n", "/dev/null: is a device, not an OBJ file"},
                                          {"mesh .\n", "is a folder, not an OBJ file"},
-                                         {"texture t file /dev/zero\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
-                                          "/dev/zero: is a device, not an image file"},
+                                         {"texture t file /dev/null\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
+                                          "/dev/null: is a device, not an image file"},
                                          {"texture t file .\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
-                                          "is a folder, not an image file"}}) {
+                                          "is a folder, not an image file"},
+                                         {"mesh lib.obj\n", "lib.obj:1: mtllib: " + dir + "/dev.mtl: is a device, not a .mtl file"},
+                                         {"mesh folder-lib.obj\n", "folder-lib.obj:4: mtllib: " + dir + "/sub: is a folder, not a .mtl file"}}) {
         write_text(dir + "/scene.txt", "size 16 16\n" + line);
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(line);
@@ -647,4 +655,33 @@ TEST_CASE("a folder or a device named as a mesh, texture or scene is refused at 
     const std::string piped = "cat " + dir + "/scene.txt | " + TEXR_BINARY + " render /dev/stdin -o " + dir + "/piped.png > /dev/null 2>&1";
     CHECK(std::system(piped.c_str()) == 0);
     CHECK(file_exists(dir + "/piped.png"));
+}
+
+TEST_CASE("texr explain measures a node-registered texture's footprint in spacings between nodes") {
+    // A 5x5 node texture (nodes at u = 0, 1/4, ..., 1) on a square filling a 16x16 frame with
+    // u and v from 0 to 2: 1/8 per pixel, half a node spacing, so lambda = log2(1/2) = -1
+    // (measured in n = 5 texels it would be log2(5/8) = -0.678). With u and v to 16: 1 per
+    // pixel, 4 node spacings, lambda = 2: trilinear on level 2 (node levels of 5, 3, 2, 1
+    // nodes) and level 3 with weight 0; the anisotropic ellipse 4 by 4 node spacings.
+    const std::string dir = scratch_folder("explain-node");
+    const std::vector<unsigned char> pixels(5 * 5 * 3, 128);
+    REQUIRE(stbi_write_png((dir + "/t.png").c_str(), 5, 5, 3, pixels.data(), 5 * 3));
+    const auto explain = [&](const std::string& filter, double top) {
+        const std::string t = std::to_string(top);
+        write_text(dir + "/scene.txt", "size 16 16\ncamera eye 0 0 1 target 0 0 0 fov 90\ntexture t file t.png registration node filter " +
+                                           filter + "\nmaterial m texture t\nquad material m v -1 -1 0 0 0 v 1 -1 0 " + t + " 0 v 1 1 0 " + t +
+                                           " " + t + " v -1 1 0 0 " + t + "\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 5 9");
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    std::string out = explain("trilinear", 2.0);
+    CAPTURE(out);
+    CHECK(out.find("|d(u,v)/dx| = 0.5 texels, |d(u,v)/dy| = 0.5 texels (spacings between nodes)") != std::string::npos);
+    CHECK(out.find("lambda = log2(max of the two) = -1.0000 (magnified or 1:1)") != std::string::npos);
+    out = explain("trilinear", 16.0);
+    CHECK(out.find("lambda = log2(max of the two) = 2.0000 (minified)") != std::string::npos);
+    CHECK(out.find("bilinear on level 2 (2x2) and level 3 (1x1), blended 0.0000 of the way") != std::string::npos);
+    out = explain("anisotropic", 16.0);
+    CHECK(out.find("major 4, minor 4 texels") != std::string::npos);
 }

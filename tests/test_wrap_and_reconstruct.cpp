@@ -32,6 +32,7 @@ TEST_CASE("wrap functions on texture coordinates: hand-worked values for every m
         CHECK(wrap_clamp(u[i]) == clamp[i]);
         CHECK(outside_border(u[i]) == border[i]);
     }
+    CHECK(outside_border(std::nan("")));  // nowhere inside: the samplers read the border there
     CHECK(wrap_repeat(1e7 + 0.25) == doctest::Approx(0.25));  // the fraction survives at 1e7
     CHECK(wrap_mirror(1e7 + 1.25) == doctest::Approx(0.75));  // floor 1e7+1 is odd
 }

@@ -86,7 +86,7 @@ int run_bench(const std::vector<std::string>& args) {
             o.width = side(v.substr(0, x)), o.height = side(v.substr(x + 1));
             if (o.width > max_image_side || o.height > max_image_side || double(o.width) * o.height > double(max_image_pixels))
                 throw std::invalid_argument("--size is out of range (each side 1.." + std::to_string(max_image_side) +
-                                            ", at most " + std::to_string(max_image_pixels) + " pixels)");
+                                            ", at most " + std::to_string(max_image_pixels) + " pixels), got '" + v + "'");
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
         else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
         else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64);

@@ -56,23 +56,26 @@ double timed_median(const Scene& scene, const RenderOptions& options, int repeat
 
 void time_interleaved(std::vector<TimedCase>& cases, int repeat) {
     std::vector<std::vector<double>> times(cases.size());
-    // Each case draws into a frame of its own, frame after frame, as a renderer would (the
-    // warm-up frame allocates it).
-    std::vector<Framebuffer> frames(cases.size(), Framebuffer(0, 0, Framebuffer::Uncleared{}));
+    // Frames are drawn into reused buffers, as a renderer draws frame after frame (the warm-up
+    // frames allocate them): a case whose last frame is kept has buffers of its own, the
+    // others share one set (so that memory does not grow with the number of cases).
+    std::vector<Framebuffer> kept(cases.size(), Framebuffer(0, 0, Framebuffer::Uncleared{}));
+    Framebuffer shared(0, 0, Framebuffer::Uncleared{});
+    const auto frame_of = [&](std::size_t i) -> Framebuffer& { return cases[i].keep_last ? kept[i] : shared; };
     for (std::size_t i = 0; i < cases.size(); ++i) {
         RenderStats warm;
-        render(*cases[i].scene, cases[i].options, warm, frames[i]);
+        render(*cases[i].scene, cases[i].options, warm, frame_of(i));
     }
     for (int r = 0; r < repeat; ++r)
         for (std::size_t i = 0; i < cases.size(); ++i) {
             TimedCase& c = cases[i];
             c.stats = RenderStats{};
             const auto start = Clock::now();
-            render(*c.scene, c.options, c.stats, frames[i]);
+            render(*c.scene, c.options, c.stats, frame_of(i));
             times[i].push_back(ms_since(start));
         }
     for (std::size_t i = 0; i < cases.size(); ++i)
-        if (cases[i].keep_last) cases[i].last = std::move(frames[i]);
+        if (cases[i].keep_last) cases[i].last = std::move(kept[i]);
     for (std::size_t i = 0; i < cases.size(); ++i) cases[i].median_ms = median(times[i]);
 }
 

@@ -131,6 +131,16 @@ ObjLines read_obj_lines(const std::string& path) {
             if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");
             if (keyword == "vt" && count < 1) fail("a texture coordinate (vt) needs u (and v)");
             (keyword == "v" ? positions : keyword == "vt" ? uvs : normals) += 1;
+        } else if (keyword == "mtllib") {
+            // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
+            // `mtllib ../../dev/zero` read until memory ran out).
+            for (std::string_view word = next_word(); !word.empty(); word = next_word()) {
+                try {
+                    require_file(folder_of(path) + std::string(word), "a .mtl file");
+                } catch (const InputError& e) {
+                    fail("mtllib: " + std::string(e.what()));
+                }
+            }
         } else if (keyword == "usemtl") {
             const std::string_view word = next_word();
             if (word.empty()) continue;  // no name: the material in force stays

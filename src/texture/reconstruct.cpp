@@ -31,10 +31,9 @@ float mitchell_netravali(float x, float b, float c) {
 
 Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, double v) {
     const int w = image.width(), h = image.height();
-    if (sampler.registration == Registration::node) {  // the slide's border test, as nearest and bilinear
-        const auto outside = [](Wrap wrap, double t) { return wrap == Wrap::border && !(t >= 0.0 && t <= 1.0); };
-        if (outside(sampler.wrap_u, u) || outside(sampler.wrap_v, v)) return sampler.border;
-    }
+    if (sampler.registration == Registration::node &&  // the slide's border test, as nearest and bilinear
+        ((sampler.wrap_u == Wrap::border && outside_border(u)) || (sampler.wrap_v == Wrap::border && outside_border(v))))
+        return sampler.border;
     const LatticePoint x = lattice(sampler.registration, sampler.wrap_u, u, w, image.inv_width());
     const LatticePoint y = lattice(sampler.registration, sampler.wrap_v, v, h, image.inv_height());
     const int x0 = int(x.whole), y0 = int(y.whole);

@@ -62,7 +62,7 @@ namespace reconstruct_detail {
     const LatticePoint p = split_lattice(wrap, node ? t * (n - 1) : t * n, n, inv_n, node);
     int l = int(p.whole);
     if (node) {
-        if (wrap == Wrap::border && !(t >= 0.0 && t <= 1.0)) return -1;  // the slide's border test
+        if (wrap == Wrap::border && outside_border(t)) return -1;  // the slide's border test
         if (p.fraction >= 0.5) ++l;  // round half up (exactly: x + 1/2 can round up from just below 1/2)
     }
     // The slide's min(floor(u * n), n - 1): u = 1 exactly still reads the last texel.
@@ -126,7 +126,7 @@ struct AxisTaps {
 
 [[gnu::always_inline]] inline AxisTaps bilinear_taps(Registration registration, Wrap wrap, double t, int n, double inv_n) {
     const bool node = registration == Registration::node;
-    if (node && wrap == Wrap::border && !(t >= 0.0 && t <= 1.0)) return {-1, -1, 0.0f};  // the slide's border test
+    if (node && wrap == Wrap::border && outside_border(t)) return {-1, -1, 0.0f};  // the slide's border test
     const LatticePoint p = split_lattice(wrap, node ? t * (n - 1) : t * n - 0.5, n, inv_n, node);
     const int i = int(p.whole);
     if (wrap == Wrap::repeat && !node) return {i, i + 1 < n ? i + 1 : 0, float(p.fraction)};  // i in [0, n) already

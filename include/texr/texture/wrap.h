@@ -29,8 +29,10 @@ inline double wrap_mirror(double u) {
 
 inline double wrap_clamp(double u) { return u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u); }
 
-// Border: true when u lies outside [0, 1] and the border colour is to be returned.
-inline bool outside_border(double u) { return u < 0.0 || u > 1.0; }
+// Border: true when u lies outside [0, 1] and the border colour is to be returned (the
+// slide's test; NaN is nowhere inside, so it too reads the border colour). The samplers
+// apply it with node registration (reconstruct.h).
+inline bool outside_border(double u) { return !(u >= 0.0 && u <= 1.0); }
 
 // --- integer texel index form (n texels along the axis) ---------------------------------
 inline int floor_mod(int i, int n) {
