@@ -5,10 +5,10 @@
 
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
