@@ -46,7 +46,8 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     const MipMap& mip = *t.mipmap;
     const Sampler& s = t.sampler;
     const int last = mip.level_count() - 1;
-    const double w = lattice_texels(s.registration, mip.base().width()), h = lattice_texels(s.registration, mip.base().height());
+    const LatticeSize base = lattice_size(mip.base(), s);
+    const double w = base.width, h = base.height;
     const auto level = [&](int l) {
         const Image& image = mip.level(l);
         return "level " + std::to_string(l) + " (" + std::to_string(image.width()) + "x" + std::to_string(image.height()) + ")";
@@ -180,7 +181,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         const double ly = t.sampler.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
         out += format("    lattice coordinates (texels, before wrapping): x = %.4f, y = %.4f\n", lx, ly);
         // The footprint in texels of the lattice: node registration counts node spacings.
-        const int lw = lattice_texels(t.sampler.registration, w), lh = lattice_texels(t.sampler.registration, h);
+        const LatticeSize lattice = lattice_size(t.mipmap->base(), t.sampler);
+        const int lw = lattice.width, lh = lattice.height;
         const double lambda = level_of_detail(d, lw, lh);
         out += format("    footprint: |d(u,v)/dx| = %.4g texels, |d(u,v)/dy| = %.4g texels",
                       std::sqrt(std::pow(lw * d.dudx, 2) + std::pow(lh * d.dvdx, 2)),

@@ -44,8 +44,8 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     const int w = image.width(), h = image.height();
     const bool node = s.registration == Registration::node;
     // The diameters on this level's lattice (node registration: its n - 1 spacings).
-    d1u *= lattice_texels(s.registration, w), d2u *= lattice_texels(s.registration, w);
-    d1v *= lattice_texels(s.registration, h), d2v *= lattice_texels(s.registration, h);
+    const LatticeSize lattice = lattice_size(image, s);
+    d1u *= lattice.width, d2u *= lattice.width, d1v *= lattice.height, d2v *= lattice.height;
 
     // Ellipse coefficients, normalised so the boundary is Q = 1.
     double a = d1v * d1v + d2v * d2v + 1.0;
@@ -148,7 +148,8 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     texels = 0;
     // Work in base-level texels (of the registration's lattice) so the axes are comparable
     // when W != H.
-    const double w = lattice_texels(s.registration, mip.base().width()), h = lattice_texels(s.registration, mip.base().height());
+    const LatticeSize base = lattice_size(mip.base(), s);
+    const double w = base.width, h = base.height;
     // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
     const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major;

@@ -58,7 +58,8 @@ FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
 
 Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
     // (The short path below is cell registration's only, where these are the image's size.)
-    const double w = lattice_texels(s.registration, mip.base().width()), h = lattice_texels(s.registration, mip.base().height());
+    const LatticeSize lattice = lattice_size(mip.base(), s);
+    const double w = lattice.width, h = lattice.height;
     const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major, minor = axes.minor;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure

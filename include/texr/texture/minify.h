@@ -21,6 +21,15 @@ namespace texr {
 
 double level_of_detail(const UVDerivatives& d, int width, int height);  // defined below
 
+// The size of `image` in texels of the sampler's lattice (sampler.h, lattice_texels: n cells,
+// or n - 1 node spacings): the units footprints and levels of detail are measured in.
+struct LatticeSize {
+    int width, height;
+};
+inline LatticeSize lattice_size(const Image& image, const Sampler& s) {
+    return {lattice_texels(s.registration, image.width()), lattice_texels(s.registration, image.height())};
+}
+
 // GL_NEAREST_MIPMAP_NEAREST / GL_LINEAR_MIPMAP_NEAREST: the level nearest to lambda, read
 // with nearest or bilinear reconstruction. lambda <= 0 is magnification: the base level.
 Color4 sample_mip_nearest(const MipMap& mip, const Sampler& s, double u, double v, double lambda, bool bilinear);  // defined below
