@@ -71,22 +71,8 @@ int run_bench(const std::vector<std::string>& args) {
             return args[++i];
         };
         if (a == "--size") {
-            const std::string v = value();
-            const auto x = v.find('x');
-            // (The message quotes the whole value: "10x10x10" is not read as 10 by "10x10".)
-            const auto side = [&](const std::string& part) {
-                try {
-                    return parse_int(part, "--size", max_image_side);
-                } catch (const std::invalid_argument&) {
-                    throw std::invalid_argument("--size expects WxH, each side from 1 to " + std::to_string(max_image_side) +
-                                                ", got '" + v + "'");
-                }
-            };
-            if (x == std::string::npos) throw std::invalid_argument("--size expects WxH, got '" + v + "'");
-            o.width = side(v.substr(0, x)), o.height = side(v.substr(x + 1));
-            if (o.width > max_image_side || o.height > max_image_side || double(o.width) * o.height > double(max_image_pixels))
-                throw std::invalid_argument("--size is out of range (each side 1.." + std::to_string(max_image_side) +
-                                            ", at most " + std::to_string(max_image_pixels) + " pixels), got '" + v + "'");
+            const std::string error = parse_frame_size(value(), o.width, o.height);
+            if (!error.empty()) throw std::invalid_argument(error);
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
         else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
         else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64);

@@ -102,30 +102,8 @@ int parse_positive(const std::string& text, const std::string& option) {
 }
 
 void parse_size(const std::string& text, RenderArguments& args) {
-    const auto x = text.find('x');
-    if (x == std::string::npos) throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
-    const std::string w = text.substr(0, x), h = text.substr(x + 1);
-    const auto digits = [](const std::string& part) {
-        return !part.empty() && part.size() <= 9 &&
-               std::all_of(part.begin(), part.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
-    };
-    if (!digits(w) || !digits(h)) throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
-    long long width = 0, height = 0;
-    try {
-        std::size_t used_w = 0, used_h = 0;
-        width = std::stoll(w, &used_w);
-        height = std::stoll(h, &used_h);
-        if (used_w != w.size() || used_h != h.size()) throw 0;
-    } catch (...) {
-        throw UsageError{"--size expects WxH (for example 640x480), got '" + text + "'"};
-    }
-    if (width < 1 || height < 1 || width > texr::max_image_side || height > texr::max_image_side ||
-        width * height > texr::max_image_pixels)
-        throw UsageError{"--size " + text + " is out of range: each side must be 1.." +
-                         std::to_string(texr::max_image_side) + " and the frame at most " +
-                         std::to_string(texr::max_image_pixels) + " pixels"};
-    args.width = int(width);
-    args.height = int(height);
+    const std::string error = texr::parse_frame_size(text, args.width, args.height);
+    if (!error.empty()) throw UsageError{error};
 }
 
 int parse_coordinate(const std::string& text, const std::string& name, int limit) {

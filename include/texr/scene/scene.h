@@ -88,4 +88,27 @@ struct Scene {
 constexpr int max_image_side = 16384;
 constexpr long long max_image_pixels = 64LL * 1024 * 1024;
 
+// A frame size as --size takes it (texr render, explain and bench): "WxH", digits only. Sets
+// width and height and returns "", or returns the message for the user.
+inline std::string parse_frame_size(const std::string& text, int& width, int& height) {
+    const std::string limits = "each side from 1 to " + std::to_string(max_image_side);
+    const std::string malformed = "--size expects WxH (for example 640x480), " + limits + ", got '" + text + "'";
+    const std::size_t x = text.find('x');
+    if (x == std::string::npos) return malformed;
+    const std::string parts[2] = {text.substr(0, x), text.substr(x + 1)};
+    long long side[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+        if (parts[i].empty() || parts[i].size() > 9) return malformed;  // (9 digits cannot overflow)
+        for (char ch : parts[i]) {
+            if (ch < '0' || ch > '9') return malformed;
+            side[i] = side[i] * 10 + (ch - '0');
+        }
+    }
+    if (side[0] < 1 || side[1] < 1 || side[0] > max_image_side || side[1] > max_image_side || side[0] * side[1] > max_image_pixels)
+        return "--size " + text + " is out of range: " + limits + " and the frame at most " + std::to_string(max_image_pixels) +
+               " pixels, got '" + text + "'";
+    width = int(side[0]), height = int(side[1]);
+    return "";
+}
+
 }  // namespace texr
