@@ -463,6 +463,26 @@ TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line o
     CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
 }
 
+TEST_CASE("a .mtl Kd outside [0, 10000] names the material, at the scene line, and writes nothing") {
+    const std::string dir = scratch_folder("kd");
+    write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    for (const auto& [kd, shown] : std::vector<std::pair<std::string, std::string>>{
+             {"-0.5 0 0", "-0.5 0 0"}, {"0.2 1e30 0.2", "0.2 1e+30 0.2"}, {"0 0 10001", "0 0 10001"}}) {
+        write_text(dir + "/t.mtl", "newmtl paint\nKd " + kd + "\n");
+        std::remove((dir + "/out.png").c_str());
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("scene.txt:2: OBJ material 'paint' (Kd in its .mtl): Kd must be 3 numbers from 0 to 10000, not " + shown) !=
+              std::string::npos);
+        CHECK(!file_exists(dir + "/out.png"));
+    }
+    // The ends of the range render.
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 0 10000 1\n");
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}
+
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {
     const std::string dir = scratch_folder("bench");
     const RunResult r = run_texr("bench --quick --out " + dir);
