@@ -265,6 +265,38 @@ TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by ha
     CHECK(outside.output.find("X must be a pixel index from 0 to 63") != std::string::npos);
 }
 
+TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup re-based them by whole periods") {
+    // The square of the test above with UVs offset by (100, -3), and a repeating texture: the
+    // setup subtracts the whole periods 100 and -3 (each triangle's smallest u and v to
+    // [0, 1)). At pixel (16, 48): u = 100 + 16.5/64 = 100.2578125, v = -3 + 15.5/64 = -2.7578125.
+    const std::string dir = scratch_folder("explain-rebased");
+    write_text(dir + "/t.ppm", std::string("P6\n2 2\n255\n") + std::string(6, char(0)) + std::string(6, char(255)));
+    const auto explain = [&](const std::string& wrap) {
+        write_text(dir + "/scene.txt",
+                   "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm wrap " + wrap +
+                       "\nmaterial m texture t\n"
+                       "quad material m v -2 -2 -2 100 -3 v 2 -2 -2 101 -3 v 2 2 -2 101 -2 v -2 2 -2 100 -2\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 16 48");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    std::string out = explain("repeat");
+    CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
+    CHECK(out.find("v = v'/q = 0.2421875") != std::string::npos);
+    CHECK(out.find("subtracted 100 from the triangle's u and -3 from its v") != std::string::npos);
+    CHECK(out.find("In the scene's\n    coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
+    // Mirror's period is 2: u loses 100, v loses -4.
+    out = explain("mirror");
+    CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
+    CHECK(out.find("v = v'/q = 1.2421875") != std::string::npos);
+    CHECK(out.find("coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
+    // Clamp is not periodic: nothing is re-based, and nothing is said.
+    out = explain("clamp");
+    CHECK(out.find("u = u'/q = 100.2578125 ") != std::string::npos);
+    CHECK(out.find("subtracted") == std::string::npos);
+}
+
 TEST_CASE("texr explain names the mip levels each filter reads, with lambda, probes and ellipse worked out by hand") {
     // The square of the test above with the 1024^2 detail texture over u, v in [0, 0.375]:
     // 384 texels over 64 pixels, 6 texels per pixel along x and y, lambda = log2 6 = 2.5850.

@@ -136,6 +136,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
            "   their constant d/dx along each row):\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
+    if (e.uv_shift != glm::dvec2(0.0))
+        out += format("    (the setup subtracted %.17g from the triangle's u and %.17g from its v, whole periods of\n"
+                      "    the wrap mode, to keep their precision; the texture reads the same. In the scene's\n"
+                      "    coordinates u = %.10g, v = %.10g)\n",
+                      e.uv_shift.x, e.uv_shift.y, exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
     const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
     out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
     out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", exact_d.dudx, exact_d.dvdx, exact_d.dudy,

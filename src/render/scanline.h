@@ -68,6 +68,7 @@ struct TriangleSetup {
     int first_row, last_row;  // rows whose centres it can cover (row_range), found once at setup
     Plane depth;             // window depth, affine in screen space
     TextureHomography h;     // u', v' and q = 1/w (q is also the divisor of every attribute)
+    glm::dvec2 uv_shift{0.0};  // whole periods subtracted from the UVs (for texr explain)
     Plane u_affine, v_affine;  // SpanMode::affine only
     std::array<glm::dvec2, 3> screen;  // snapped vertices, for texr explain
     std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
@@ -394,7 +395,7 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
     const std::size_t i = fb.index(e.x, e.y);
     e.covered = true;
     e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
-    e.screen = s.screen, e.h = s.h, e.depth = fb.depth[i], e.color = fb.color[i];
+    e.screen = s.screen, e.h = s.h, e.uv_shift = s.uv_shift, e.depth = fb.depth[i], e.color = fb.color[i];
 }
 
 template <Needs N>

@@ -21,14 +21,16 @@ namespace {
 // number of periods (1 for repeat, 2 for mirror) so the smallest is in [0, period). The
 // texture reads the same, and u', v' keep their precision (a quad with UVs near 1e5
 // renders like one near 0). Clamp and border are not periodic and are left alone.
-void rebase(std::array<double, 3>& t, Wrap wrap) {
-    if (wrap != Wrap::repeat && wrap != Wrap::mirror) return;
+// Returns the shift subtracted (texr explain adds it back to show the scene's coordinates).
+double rebase(std::array<double, 3>& t, Wrap wrap) {
+    if (wrap != Wrap::repeat && wrap != Wrap::mirror) return 0.0;
     const double period = wrap == Wrap::repeat ? 1.0 : 2.0;
     const double low = std::min({t[0], t[1], t[2]});
-    if (!(std::fabs(low) < 1e15)) return;  // beyond that no fraction is left to keep
+    if (!(std::fabs(low) < 1e15)) return 0.0;  // beyond that no fraction is left to keep
     // (1/period is exact: 1 or 1/2; |low| < 1e15 is within fast_floor's range)
     const double shift = period * fast_floor(low * (1.0 / period));
     for (double& x : t) x -= shift;
+    return shift;
 }
 
 bool finite(const glm::dvec4& p) {
@@ -174,7 +176,7 @@ private:
         if ((needs & need_uv) || explaining_) {  // texr explain shows u and v even when unused
             std::array<double, 3> u = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
             std::array<double, 3> vv = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
-            if (texture) rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v);
+            s.uv_shift = texture ? glm::dvec2(rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v)) : glm::dvec2(0.0);
             s.h.u_prime = over_w_plane(lambda, u, inv_w);
             s.h.v_prime = over_w_plane(lambda, vv, inv_w);
             if (options_.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w

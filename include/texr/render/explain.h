@@ -21,7 +21,8 @@ struct PixelExplanation {
     int material = -1;
     bool clipped = false;      // the triangle was cut by a clipping plane (this is one piece)
     std::array<glm::dvec2, 3> screen{};  // the piece's vertices in pixels, snapped to 1/256
-    TextureHomography h;       // for the piece, with its UVs re-based by whole periods
+    TextureHomography h;       // for the piece, with its UVs re-based by whole periods:
+    glm::dvec2 uv_shift{0.0};  // the periods subtracted from u and v (repeat and mirror wraps)
     double depth = 0.0;
     Color color{0.0f};         // linear, as written to the frame
     // The (u, v) the span walk gave the texture lookup (a span mode other than exact computes
