@@ -10,6 +10,8 @@
 
 #include <stb_image_write.h>
 
+#include <sys/stat.h>
+
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/render/renderer.h"
@@ -146,6 +148,55 @@ TEST_CASE("an OBJ without UVs under a textured material is refused with a clear 
     // Without a texture the same OBJ renders.
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh tri.obj\n");
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}
+
+TEST_CASE("an output path that cannot be written is refused before the scene is read or rendered") {
+    const std::string dir = scratch_folder("output-first");
+    write_text(dir + "/bad.txt", "size 32 24\nsphere\n");  // a scene error on line 2
+    // The output's folder is checked first: its message comes, not the scene's.
+    RunResult r = run_texr("render " + dir + "/bad.txt -o " + dir + "/missing/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/missing/out.png: cannot write output file: there is no folder '" + dir + "/missing'\n");
+    std::system(("mkdir -p '" + dir + "/folder.png'").c_str());
+    r = run_texr("render " + dir + "/bad.txt -o " + dir + "/folder.png");
+    CHECK(r.output == "texr: " + dir + "/folder.png: cannot write output file: it is a folder\n");
+    // The benchmark's folder too: at once, not after the benchmarks ran.
+    write_text(dir + "/file", "a file, not a folder");
+    r = run_texr("bench spans --quick --out " + dir + "/file/bench");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/file/bench: cannot make the output folder: Not a directory\n");
+    r = run_texr("bench spans --quick --out " + dir + "/file");
+    CHECK(r.output == "texr: " + dir + "/file: cannot make the output folder: a file of that name is in the way\n");
+}
+
+TEST_CASE("the default output goes to out/ in the current folder, which is made if missing") {
+    const std::string dir = scratch_folder("default-output");
+    write_text(dir + "/scene.txt", good_scene);
+    const std::string command = "cd '" + dir + "' && " + std::string(TEXR_BINARY) + " render scene.txt > log.txt 2>&1";
+    CHECK(std::system(command.c_str()) == 0);
+    CHECK(file_exists(dir + "/out/scene.png"));
+}
+
+TEST_CASE("writing over a file keeps its permissions, and a symbolic link is written through") {
+    const std::string dir = scratch_folder("replace");
+    write_text(dir + "/scene.txt", good_scene);
+    write_text(dir + "/frame.png", "old");
+    std::system(("chmod 640 '" + dir + "/frame.png'").c_str());
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/frame.png").exit_code == 0);
+    struct stat info;
+    REQUIRE(::stat((dir + "/frame.png").c_str(), &info) == 0);
+    CHECK((info.st_mode & 0777) == 0640);
+    CHECK(info.st_size > 3);
+    // A link to a file in another folder: the file is replaced, the link stays a link.
+    std::system(("mkdir -p '" + dir + "/frames' && echo old > '" + dir + "/frames/target.png' && ln -s frames/target.png '" + dir +
+                 "/link.png'").c_str());
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/link.png").exit_code == 0);
+    REQUIRE(::lstat((dir + "/link.png").c_str(), &info) == 0);
+    CHECK(S_ISLNK(info.st_mode));
+    REQUIRE(::stat((dir + "/frames/target.png").c_str(), &info) == 0);
+    CHECK(info.st_size > 4);
+    CHECK(std::system(("ls -a '" + dir + "/frames' '" + dir + "' | grep -q '^\\.texr-'").c_str()) != 0);  // no temporary file left
 }
 
 TEST_CASE("an unwritable output path fails cleanly and leaves the previous file untouched") {

@@ -1,10 +1,13 @@
 // Shared pieces of the benchmarks (see src/bench/common.h).
 #include "common.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sys/stat.h>
 
+#include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
 
 namespace texr::bench {
@@ -24,11 +27,15 @@ std::vector<bool> covered(const Framebuffer& fb) {
 void make_folders(const std::string& path) {
     std::string partial;
     for (std::size_t i = 0; i <= path.size(); ++i) {
-        if (i == path.size() || path[i] == '/') {
-            if (!partial.empty()) ::mkdir(partial.c_str(), 0755);
-        }
+        if ((i == path.size() || path[i] == '/') && !partial.empty() && ::mkdir(partial.c_str(), 0755) != 0 && errno != EEXIST)
+            throw InputError(partial, 0, std::string("cannot make the output folder: ") + std::strerror(errno));
         if (i < path.size()) partial += path[i];
     }
+    struct stat info;
+    if (!path.empty() && (::stat(path.c_str(), &info) != 0 || !S_ISDIR(info.st_mode)))
+        throw InputError(path, 0, "cannot make the output folder: a file of that name is in the way");
+    // Every benchmark writes its files here at its end: find out now, not after the work.
+    check_output_path(path + "/index.md");
 }
 
 void write_text_file(const std::string& path, const std::string& text) {

@@ -44,6 +44,8 @@ struct TimedCase {
 void time_interleaved(std::vector<TimedCase>& cases, int repeat);
 // The pixels a frame's surfaces cover.
 std::vector<bool> covered(const Framebuffer& fb);
+// Makes the folder and its parents; throws InputError naming the one that cannot be made,
+// or when files cannot be written in it.
 void make_folders(const std::string& path);
 // Written atomically, like frames.
 void write_text_file(const std::string& path, const std::string& text);

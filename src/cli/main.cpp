@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 #include "texr/bench/bench.h"
 #include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
@@ -163,6 +165,9 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     } catch (const texr::InputError& e) {
         throw UsageError{e.what()};
     }
+    // The default output goes to out/ in the current folder, made if need be.
+    if (!output_given) ::mkdir("out", 0755);
+    texr::check_output_path(args.output);  // a frame that cannot be written is refused before it is rendered
     return args;
 }
 

@@ -6,7 +6,10 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <climits>
+#include <cstdlib>
 #include <cstring>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "texr/core/error.h"
@@ -62,26 +65,79 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
     return out;
 }
 
-void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+namespace {
+
+// The folder part of a path, with its slash ("" for a bare name: the current folder).
+std::string folder_of(const std::string& path) {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// The file a write to `path` replaces: the target of a symbolic link (followed to the end),
+// else the path itself.
+std::string written_path(const std::string& path) {
+    struct stat link;
+    if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) return path;
+    char* resolved = ::realpath(path.c_str(), nullptr);
+    if (!resolved) {  // a dangling link: write its target's name, relative to the link's folder
+        std::string target(PATH_MAX, '\0');
+        const ssize_t n = ::readlink(path.c_str(), target.data(), target.size());
+        if (n <= 0) return path;
+        target.resize(std::size_t(n));
+        return target[0] == '/' ? target : folder_of(path) + target;
+    }
+    std::string out = resolved;
+    std::free(resolved);
+    return out;
+}
+
+}  // namespace
+
+void check_output_path(const std::string& requested) {
+    const std::string path = written_path(requested);
+    const std::string folder = folder_of(path);
+    const std::string shown_folder = folder.empty() ? std::string(".") : folder.substr(0, folder.size() > 1 ? folder.size() - 1 : 1);
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0) {
+        if (S_ISDIR(info.st_mode)) throw InputError(requested, 0, "cannot write output file: it is a folder");
+        if (::access(path.c_str(), W_OK) != 0)
+            throw InputError(requested, 0, std::string("cannot write output file: it exists and cannot be replaced (") + std::strerror(errno) + ")");
+    }
+    if (::stat(folder.empty() ? "." : folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
+        throw InputError(requested, 0, "cannot write output file: there is no folder '" + shown_folder + "'");
+    // The new file is made beside the old one and renamed over it: the folder must be writable.
+    if (::access(folder.empty() ? "." : folder.c_str(), W_OK | X_OK) != 0)
+        throw InputError(requested, 0, "cannot write output file: cannot create files in folder '" + shown_folder + "' (" + std::strerror(errno) + ")");
+}
+
+void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes) {
+    const std::string path = written_path(requested);
     // A short hidden name in the same folder (so that rename replaces the file in one step),
     // whatever the length of the file's own name; numbered, so that writes from several
     // threads of one process never share one.
     static std::atomic<unsigned> writes{0};
-    const auto slash = path.find_last_of('/');
-    const std::string folder = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+    const std::string folder = folder_of(path);
     const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (!file) throw InputError(path, 0, std::string("cannot write output file: ") + std::strerror(errno));
+    if (!file) {
+        const int error = errno;
+        check_output_path(requested);  // names the reason when it can
+        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+    }
+    // The replaced file's permissions carry over to the new one.
+    struct stat old_file;
+    const bool replacing = ::stat(path.c_str(), &old_file) == 0;
+    if (replacing) ::fchmod(::fileno(file), old_file.st_mode & 07777);
     const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
     const bool closed = std::fclose(file) == 0;
     if (!written || !closed) {
         std::remove(temporary.c_str());
-        throw InputError(path, 0, "cannot write output file (disk full?)");
+        throw InputError(requested, 0, "cannot write output file (disk full?)");
     }
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
         const int error = errno;
         std::remove(temporary.c_str());
-        throw InputError(path, 0, std::string("cannot write output file: ") + std::strerror(error));
+        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
     }
 }
 
