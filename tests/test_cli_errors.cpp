@@ -87,6 +87,12 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("bad-camera", "camera near 5 far 1\n" + good_scene, "scene.txt:1: camera needs 0 < near < far");
     expect_failure("no-objects", "size 32 24\n", "scene has no objects");
     expect_failure("continuation", good_scene + "quad \\\n", "scene.txt:5: line ends with '\\'");
+    // A command continued over several lines: the message names the line of the bad word.
+    const std::string quad = "quad \\\n  v -1 -1 0 0 0 \\\n  v 1 -1 0 1 0 \\\n  v 1 1 0 1 1";
+    expect_failure("continued-value", good_scene + quad + " \\\n  v -1 1 0 x 1\n", "scene.txt:9: expected the vertex u, found 'x'");
+    expect_failure("continued-option", good_scene + "material m \\\n  color 1 0 0 \\\n  colour 1 0 0\n",
+                   "scene.txt:7: unknown material option 'colour'");
+    expect_failure("continued-count", good_scene + quad + "\n", "scene.txt:8: quad needs 4 vertices");
 }
 
 TEST_CASE("numbers a scene keeps but cannot use are refused: huge colours, float overflow, border alpha, cubic") {

@@ -22,8 +22,9 @@ namespace {
 
 // --- Tokens of one logical line ------------------------------------------------------------
 struct Line {
-    int number = 0;
+    int number = 0;  // where the command starts
     std::vector<std::string> tokens;
+    std::vector<int> token_lines;  // the file line of each token (a command continued with '\\' spans several)
 };
 
 // Splits on whitespace; "double quotes" keep spaces; '#' outside quotes ends the line.
@@ -61,11 +62,12 @@ std::string without_comment(const std::string& raw) {
 
 std::vector<Line> read_lines(std::istream& in, const std::string& file) {
     std::vector<Line> lines;
-    std::string raw, pending;
-    int number = 0, start = 0;
+    std::string raw;
+    Line line;  // the command being read
+    int number = 0;
+    bool continuing = false;  // the line before ended with '\\'
     while (std::getline(in, raw)) {
         ++number;
-        if (pending.empty()) start = number;
         if (number == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);  // a UTF-8 byte order mark
         // (A NUL would cut every message that quotes the line short.)
         if (raw.find('\0') != std::string::npos) throw InputError(file, number, "a NUL byte: is this a scene file?");
@@ -74,13 +76,16 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
         while (!raw.empty() && (raw.back() == ' ' || raw.back() == '\t')) raw.pop_back();
         const bool continued = !raw.empty() && raw.back() == '\\';
         if (continued) raw.pop_back();
-        pending += raw + " ";
+        if (!continuing) line = Line{number, {}, {}};
+        for (std::string& token : tokenize(raw, file, number)) {
+            line.tokens.push_back(std::move(token));
+            line.token_lines.push_back(number);
+        }
+        continuing = continued;
         if (continued) continue;
-        Line line{start, tokenize(pending, file, start)};
-        pending.clear();
         if (!line.tokens.empty()) lines.push_back(std::move(line));
     }
-    if (!pending.empty()) throw InputError(file, start, "line ends with '\\' but the file ends there");
+    if (continuing) throw InputError(file, line.number, "line ends with '\\' but the file ends there");
     return lines;
 }
 
@@ -94,7 +99,10 @@ class Cursor {
 public:
     Cursor(const Line& line, const std::string& file) : line_(line), file_(file) {}
 
-    [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, line_.number, message); }
+    // At the line of the token read last (a command continued with '\\' spans several lines).
+    [[noreturn]] void fail(const std::string& message) const {
+        throw InputError(file_, next_ > 0 ? line_.token_lines[next_ - 1] : line_.number, message);
+    }
     bool done() const { return next_ >= line_.tokens.size(); }
     int line_number() const { return line_.number; }
     const std::string& peek() const { return line_.tokens[next_]; }
