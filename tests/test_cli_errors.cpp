@@ -552,6 +552,30 @@ TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line o
     CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
 }
 
+TEST_CASE("a missing .mtl file is refused at its mtllib line; one of several names is enough") {
+    const std::string dir = scratch_folder("mtllib-missing");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    const std::string faces = "\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n";
+    write_text(dir + "/t.obj", "# made by hand\nmtllib nosuch.mtl" + faces);
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.obj:2: mtllib: cannot open " + dir + "/nosuch.mtl\n");
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 0 1 0\n");
+    write_text(dir + "/t.obj", "mtllib nosuch.mtl t.mtl" + faces);
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}
+
+TEST_CASE("a scene file named as its own mesh is refused at the mesh line") {
+    const std::string dir = scratch_folder("mesh-self");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh scene.txt\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:2: " + dir + "/scene.txt: ") != std::string::npos);
+}
+
 TEST_CASE("a .mtl Kd outside [0, 10000] names the material, at the scene line, and writes nothing") {
     const std::string dir = scratch_folder("kd");
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");

@@ -134,13 +134,21 @@ ObjLines read_obj_lines(const std::string& path) {
         } else if (keyword == "mtllib") {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
             // `mtllib ../../dev/zero` read until memory ran out).
+            // A missing .mtl file is refused too (its materials would silently turn grey);
+            // tinyobjloader reads the first of the names that opens, so one must exist.
+            std::string names;
+            bool found = false;
             for (std::string_view word = next_word(); !word.empty(); word = next_word()) {
+                const std::string mtl = folder_of(path) + std::string(word);
                 try {
-                    require_file(folder_of(path) + std::string(word), "a .mtl file");
+                    require_file(mtl, "a .mtl file");
                 } catch (const InputError& e) {
                     fail("mtllib: " + std::string(e.what()));
                 }
+                found = found || bool(std::ifstream(mtl));
+                names += (names.empty() ? "" : ", ") + mtl;
             }
+            if (!names.empty() && !found) fail("mtllib: cannot open " + names);
         } else if (keyword == "usemtl") {
             const std::string_view word = next_word();
             if (word.empty()) continue;  // no name: the material in force stays

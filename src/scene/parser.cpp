@@ -423,44 +423,20 @@ private:
                 c.fail("unknown mesh option '" + key + "' (expected material, cull, translate, rotate or scale)");
         }
         // Each OBJ material is the scene material of the same name, else made from its .mtl.
+        bool resolver_failed = false;  // its messages already name this line
         auto resolve = [&](const ObjMaterialInfo& info) {
-            if (material >= 0) return material;
-            if (info.name.empty()) return default_material();
-            auto it = material_index_.find(info.name);
-            if (it != material_index_.end()) return it->second;
-            Material m;
-            m.name = info.name;
-            // .mtl Kd, taken as linear reflectance; a name no .mtl describes: the default grey.
-            // Kd is held to the scene colours' range (tinyobjloader keeps no line numbers, so
-            // the message names the material).
-            if (info.described)
-                for (int i = 0; i < 3; ++i)
-                    if (!(info.diffuse[i] >= 0.0f && info.diffuse[i] <= float(max_color)))
-                    {
-                        char kd[96];
-                        std::snprintf(kd, sizeof kd, "%g %g %g", double(info.diffuse.x), double(info.diffuse.y), double(info.diffuse.z));
-                        c.fail("OBJ material '" + info.name + "' (Kd in its .mtl): Kd must be 3 numbers from 0 to 10000, not " + kd);
-                    }
-            m.color = info.described ? info.diffuse : default_color;
-            material_from_obj_[m.name] = c.line_number();
-            if (!info.diffuse_texture.empty()) {
-                Texture t;
-                t.name = info.name + ".map_Kd";
-                t.path = info.diffuse_texture;
-                t.image = image(c, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
-                t.mipmap = mipmap(t.image, t.sampler);
-                m.texture = int(scene_.textures.size());
-                scene_.textures.push_back(std::move(t));
+            try {
+                return resolve_material(c, info, material);
+            } catch (...) {
+                resolver_failed = true;
+                throw;
             }
-            material_index_[m.name] = int(scene_.materials.size());
-            scene_.materials.push_back(m);
-            return material_index_[m.name];
         };
         Mesh mesh;
         try {
             mesh = load_obj(path, resolve);
         } catch (const InputError& e) {
-            if (e.file() == file_) throw;  // already names this line (from the material resolver)
+            if (resolver_failed) throw;
             c.fail(e.what());
         } catch (const std::bad_alloc&) {  // a huge mesh: say which
             c.fail(path + ": out of memory reading the OBJ file");
@@ -468,6 +444,41 @@ private:
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
         add_object(c, std::move(mesh), object, path);
+    }
+
+    // The scene material for an OBJ material: `material` if the mesh line names one, else the
+    // scene material of the same name, else one made from its .mtl (or the default grey).
+    int resolve_material(Cursor& c, const ObjMaterialInfo& info, int material) {
+        if (material >= 0) return material;
+        if (info.name.empty()) return default_material();
+        auto it = material_index_.find(info.name);
+        if (it != material_index_.end()) return it->second;
+        Material m;
+        m.name = info.name;
+        // .mtl Kd, taken as linear reflectance; a name no .mtl describes: the default grey.
+        // Kd is held to the scene colours' range (tinyobjloader keeps no line numbers, so
+        // the message names the material).
+        if (info.described)
+            for (int i = 0; i < 3; ++i)
+                if (!(info.diffuse[i] >= 0.0f && info.diffuse[i] <= float(max_color))) {
+                    char kd[96];
+                    std::snprintf(kd, sizeof kd, "%g %g %g", double(info.diffuse.x), double(info.diffuse.y), double(info.diffuse.z));
+                    c.fail("OBJ material '" + info.name + "' (Kd in its .mtl): Kd must be 3 numbers from 0 to 10000, not " + kd);
+                }
+        m.color = info.described ? info.diffuse : default_color;
+        material_from_obj_[m.name] = c.line_number();
+        if (!info.diffuse_texture.empty()) {
+            Texture t;
+            t.name = info.name + ".map_Kd";
+            t.path = info.diffuse_texture;
+            t.image = image(c, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
+            t.mipmap = mipmap(t.image, t.sampler);
+            m.texture = int(scene_.textures.size());
+            scene_.textures.push_back(std::move(t));
+        }
+        material_index_[m.name] = int(scene_.materials.size());
+        scene_.materials.push_back(m);
+        return material_index_[m.name];
     }
 
     void polygon(Cursor& c, int corners) {
