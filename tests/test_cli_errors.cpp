@@ -552,7 +552,7 @@ TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line o
     CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
 }
 
-TEST_CASE("a missing .mtl file is refused at its mtllib line; one of several names is enough") {
+TEST_CASE("a missing .mtl file is refused at its mtllib line, but one of several names is enough") {
     const std::string dir = scratch_folder("mtllib-missing");
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
     const std::string faces = "\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n";
