@@ -93,6 +93,15 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("continued-option", good_scene + "material m \\\n  color 1 0 0 \\\n  colour 1 0 0\n",
                    "scene.txt:7: unknown material option 'colour'");
     expect_failure("continued-count", good_scene + quad + "\n", "scene.txt:8: quad needs 4 vertices");
+    // Normals and colours on every vertex of a triangle or quad, or on none.
+    expect_failure("some-normals", "triangle v 0 0 0 0 0 n 0 0 1 v 1 0 0 1 0 v 0 1 0 0 1 n 0 0 1\n",
+                   "scene.txt:1: triangle has a normal 'n' on 2 of its 3 vertices: give one after every vertex, or none");
+    expect_failure("some-colours", "quad v 0 0 0 0 0 v 1 0 0 1 0 c 1 0 0 v 1 1 0 1 1 v 0 1 0 0 1\n",
+                   "scene.txt:1: quad has a colour 'c' on 1 of its 4 vertices");
+    expect_failure("two-normals", "triangle v 0 0 0 0 0 n 0 0 1 n 0 1 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:1: a second normal 'n' for one vertex");
+    expect_failure("two-colours", "triangle v 0 0 0 0 0 c 1 0 0 c 0 1 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:1: a second colour 'c' for one vertex");
 }
 
 TEST_CASE("numbers a scene keeps but cannot use are refused: huge colours, float overflow, border alpha, cubic") {

@@ -488,6 +488,9 @@ private:
         Mesh mesh;
         mesh.has_uv = true;
         bool any_normal = false;
+        int normals_given = 0;
+        int last_with_normal = 0, last_with_color = 0;  // how many vertices there were at the last 'n', 'c'
+        int colors_given = 0;
         while (!c.done()) {
             const std::string key = c.word("a " + what + " option");
             if (key == "v") {
@@ -498,14 +501,32 @@ private:
                 mesh.vertices.push_back(v);
             } else if (key == "n" || key == "c") {
                 if (mesh.vertices.empty()) c.fail("'" + key + "' belongs after a vertex 'v x y z u v'");
-                if (key == "n") { mesh.vertices.back().normal = c.float_vec3("the vertex normal"); any_normal = true; }
-                else { mesh.vertices.back().color = c.color("the vertex colour"); mesh.has_colors = true; }
+                if (key == "n") {
+                    if (last_with_normal == int(mesh.vertices.size())) c.fail("a second normal 'n' for one vertex");
+                    last_with_normal = int(mesh.vertices.size());
+                    mesh.vertices.back().normal = c.float_vec3("the vertex normal");
+                    any_normal = true, ++normals_given;
+                }
+                else {
+                    if (last_with_color == int(mesh.vertices.size())) c.fail("a second colour 'c' for one vertex");
+                    last_with_color = int(mesh.vertices.size());
+                    mesh.vertices.back().color = c.color("the vertex colour");
+                    mesh.has_colors = true, ++colors_given;
+                }
             } else if (!object_option(c, key, object, material)) {
                 c.fail("unknown " + what + " option '" + key + "' (expected v, n, c, material, cull, translate, rotate or scale)");
             }
         }
         if (int(mesh.vertices.size()) != corners)
             c.fail(what + " needs " + std::to_string(corners) + " vertices 'v x y z u v', found " + std::to_string(mesh.vertices.size()));
+        // Normals and colours on every vertex or on none (normals are then computed, colours
+        // white): a vertex left out would silently keep a default.
+        if (any_normal && normals_given != corners)
+            c.fail(what + " has a normal 'n' on " + std::to_string(normals_given) + " of its " + std::to_string(corners) +
+                   " vertices: give one after every vertex, or none to have them computed");
+        if (mesh.has_colors && colors_given != corners)
+            c.fail(what + " has a colour 'c' on " + std::to_string(colors_given) + " of its " + std::to_string(corners) +
+                   " vertices: give one after every vertex, or none");
         mesh.triangles.push_back({0, 1, 2});
         if (corners == 4) mesh.triangles.push_back({0, 2, 3});
         mesh.triangle_material.assign(mesh.triangles.size(), material >= 0 ? material : default_material());
