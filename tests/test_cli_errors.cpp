@@ -76,7 +76,14 @@ TEST_CASE("a good scene renders and writes the file") {
 }
 
 TEST_CASE("bad scene lines name file:line and what was expected") {
-    expect_failure("malformed", good_scene + "camera eye 0 1\n", "scene.txt:5: expected 3 numbers for eye");
+    expect_failure("malformed", "camera eye 0 1\n" + good_scene, "scene.txt:1: expected 3 numbers for eye");
+    // The frame's settings once each.
+    expect_failure("camera-twice", good_scene + "camera fov 30\n", "scene.txt:5: 'camera' is given a second time (first on line 2)");
+    expect_failure("size-twice", "size 8 8\n" + good_scene, "scene.txt:2: 'size' is given a second time (first on line 1)");
+    expect_failure("background-twice", "background 1 0 0\nbackground 0 0 1\n" + good_scene,
+                   "scene.txt:2: 'background' is given a second time (first on line 1)");
+    expect_failure("ambient-twice", "ambient 0.1 0.1 0.1\n" + good_scene + "ambient 0.2 0.2 0.2\n",
+                   "scene.txt:6: 'ambient' is given a second time (first on line 1)");
     expect_failure("not-a-number", "size 32 abc\n" + good_scene, "scene.txt:1: expected the height, found 'abc'");
     expect_failure("unknown-command", "size 32 24\nsphere 1 2 3\n", "scene.txt:2: unknown command 'sphere'");
     expect_failure("unknown-option", good_scene + "material m colour 1 0 0\n", "scene.txt:5: unknown material option 'colour'");

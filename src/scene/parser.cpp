@@ -201,6 +201,12 @@ public:
     void command(const Line& line) {
         Cursor c(line, file_);
         const std::string& name = line.tokens[0];
+        // The frame's settings are given once (a second line would silently win, or for the
+        // camera merge its options with the first).
+        if (name == "size" || name == "camera" || name == "background" || name == "ambient") {
+            const auto [first, inserted] = settings_line_.emplace(name, line.number);
+            if (!inserted) c.fail("'" + name + "' is given a second time (first on line " + std::to_string(first->second) + ")");
+        }
         if (name == "size") size(c);
         else if (name == "camera") camera(c);
         else if (name == "background") scene_.background = c.color("background colour");
@@ -566,6 +572,7 @@ private:
     const std::string& file_;
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
+    std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
     std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the mesh line
     std::map<std::string, std::shared_ptr<const Image>> images_;
     using MipKey = std::tuple<const Image*, bool, Wrap, Wrap, std::array<float, 4>>;
