@@ -9,11 +9,13 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev doctest-dev clang libclang-rt-14-dev)
+packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev doctest-dev)
+test_packages=(clang libclang-rt-14-dev)  # the fuzz targets (libFuzzer), for ./build.sh test only
 
+# install_missing PACKAGE...: apt-get those not installed (as root), else say how.
 install_missing() {
     local missing=()
-    for p in "${packages[@]}"; do
+    for p in "$@"; do
         dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
     done
     [ ${#missing[@]} -eq 0 ] && return 0
@@ -29,9 +31,10 @@ install_missing() {
     fi
 }
 
+# build [TARGET]: every target, or the one named.
 build() {
     cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build build -j "$(nproc)"
+    cmake --build build -j "$(nproc)" ${1:+--target "$1"}
 }
 
 sanitized_tests() {
@@ -68,13 +71,13 @@ fuzz() {
 
 case "${1:-}" in
     demo)
-        install_missing
-        build
+        install_missing "${packages[@]}"
+        build texr
         mkdir -p out
         ./build/texr render models/demo.scene -o out/demo.png
         ;;
     test)
-        install_missing
+        install_missing "${packages[@]}" "${test_packages[@]}"
         build
         ctest --test-dir build --output-on-failure -j "$(nproc)"
         sanitized_tests
@@ -82,8 +85,8 @@ case "${1:-}" in
         fuzz
         ;;
     bench)
-        install_missing
-        build
+        install_missing "${packages[@]}"
+        build texr
         shift
         ./build/texr bench "$@"
         ;;

@@ -123,7 +123,7 @@ TEST_CASE("numbers a scene keeps but cannot use are refused: huge colours, float
     expect_failure("huge-vertex-colour", "size 32 24\nmaterial red vertex_colors on\ntriangle material red v -1 -1 0 0 0 c 1e39 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n",
                    "scene.txt:3: the vertex colour must be at most 10000");
     expect_failure("float-position", "size 32 24\nmaterial red\ntriangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 1e39 0.5 1\n",
-                   "scene.txt:3: 3 numbers for the vertex position is beyond a float's range");
+                   "scene.txt:3: the vertex position: '1e39' is beyond a float's range (about 3.4e38)");
     expect_failure("border-alpha", "texture t file x.png wrap border border 1 1 1 -5\n" + good_scene,
                    "scene.txt:1: the border alpha must be between 0 and 1");
     expect_failure("huge-border", "texture t file x.png wrap border border 1e17 0 0 1\n" + good_scene,

@@ -2,6 +2,7 @@
 // spans.cpp, threads.cpp, scale.cpp) into out/bench/ with an index and the checked targets.
 #include "texr/bench/bench.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "common.h"
@@ -80,7 +81,9 @@ int run_bench(const std::vector<std::string>& args) {
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
         else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192, o.quick = true;
-        else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") names.push_back(a);
+        else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") {
+            if (std::find(names.begin(), names.end(), a) == names.end()) names.push_back(a);  // each runs once
+        }
         else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
     }
     if (names.empty()) names = {"filters", "spans", "threads", "scale"};

@@ -45,7 +45,8 @@ const char* explain_help =
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
     "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
     "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
-    "texture's filter reads, and the colour. The options are render's: with a --span mode\n"
+    "texture's filter reads, and the colour. --size, --span and --span-tolerance are\n"
+    "render's (the other render options do not apply): with a --span mode\n"
     "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
     "exact derivatives taken there, and explain says by how much they differ.\n";
 
@@ -98,8 +99,8 @@ int parse_positive(const std::string& text, const std::string& option) {
     }
     if (used != text.size() || text.empty() || value < 1 || value > 1000000000LL)
         throw UsageError{option + " expects a positive whole number, got '" + text + "'"};
-    if ((option == "--threads" && value > 256) || (option == "--spp" && value > 64))
-        throw UsageError{option + " " + text + " is out of range (--threads 1..256, --spp 1..64)"};
+    if (option == "--threads" && value > 256) throw UsageError{"--threads " + text + " is out of range (1..256)"};
+    if (option == "--spp" && value > 64) throw UsageError{"--spp " + text + " is out of range (1..64)"};
     return int(value);
 }
 

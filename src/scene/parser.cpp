@@ -132,15 +132,15 @@ public:
 
     // A number kept as a float (vertex positions and normals): within a float's range, which
     // a double's finite numbers need not be.
-    float float_number(const std::string& what) {
-        const double value = number(what);
+    float float_number(const std::string& expected, const std::string& what) {
+        const double value = number(expected);
         if (!(std::fabs(value) <= double(std::numeric_limits<float>::max())))
-            fail(what + " is beyond a float's range (about 3.4e38)");
+            fail(what + ": '" + line_.tokens[next_ - 1] + "' is beyond a float's range (about 3.4e38)");
         return float(value);
     }
     glm::vec3 float_vec3(const std::string& what) {
         glm::vec3 v;
-        for (int i = 0; i < 3; ++i) v[i] = float_number("3 numbers for " + what);
+        for (int i = 0; i < 3; ++i) v[i] = float_number("3 numbers for " + what, what);
         return v;
     }
 
