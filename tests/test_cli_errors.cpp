@@ -150,7 +150,20 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
     expect_failure("missing-texture", "texture t file nothere.png\n" + good_scene, "scene.txt:1: ");
     expect_failure("missing-texture-name", "texture t file nothere.png\n" + good_scene, "nothere.png: cannot open image file");
     expect_failure("missing-obj", good_scene + "mesh nothere.obj\n", "nothere.obj: cannot open OBJ file");
-    expect_failure("not-an-image", "texture t file scene.txt\n" + good_scene, "scene.txt: not a readable image");
+    expect_failure("not-an-image", "texture t file scene.txt\n" + good_scene,
+                   "scene.txt: not a readable image: not a PNG, JPEG, TGA, BMP or Radiance HDR image");
+    {  // a PNG cut short: its first 20000 of 38803 bytes
+        const std::string dir = scratch_folder("cut-png");
+        std::ifstream in(source_path("models/textures/detail.png"), std::ios::binary);
+        std::string bytes(20000, '\0');
+        in.read(bytes.data(), 20000);
+        std::ofstream(dir + "/cut.png", std::ios::binary) << bytes;
+        write_text(dir + "/scene.txt", "texture t file cut.png\n" + good_scene);
+        const RunResult cut = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(cut.exit_code == 1);
+        CHECK(cut.output.find("scene.txt:1: " + dir + "/cut.png: not a readable image: the file is cut short or damaged") !=
+              std::string::npos);
+    }
     const RunResult r = run_texr("render does-not-exist.scene -o nowhere.png");
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("does-not-exist.scene: cannot open scene file") != std::string::npos);

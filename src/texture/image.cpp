@@ -57,19 +57,34 @@ std::vector<T> flipped_rows(const T* top_down, int width, int height) {
 
 }  // namespace
 
+namespace {
+
+// stb_image's reason for a failure, in words a user can act on (its own are terse codes).
+std::string unreadable(const char* reason) {
+    const std::string r = reason ? reason : "";
+    std::string why = r;
+    if (r == "unknown image type") why = "not a PNG, JPEG, TGA, BMP or Radiance HDR image";
+    else if (r == "outofdata" || r == "bad png" || r == "corrupt JPEG" || r == "bad huffman code") why = "the file is cut short or damaged (" + r + ")";
+    else if (r == "outofmem") why = "out of memory";
+    else if (r == "too large") why = "the image is too large to read";
+    return "not a readable image: " + why;
+}
+
+}  // namespace
+
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open image file");
     int width = 0, height = 0, channels = 0;
     if (stbi_is_hdr(path.c_str())) {
         float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 4);
-        if (!data) throw InputError(path, 0, std::string("not a readable image: ") + stbi_failure_reason());
+        if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
         Image image = Image::hdr(width, height, flipped_rows(data, width, height));
         stbi_image_free(data);
         return image;
     }
     unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
-    if (!data) throw InputError(path, 0, std::string("not a readable image: ") + stbi_failure_reason());
+    if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
     Image image = Image::ldr(width, height, space, flipped_rows(data, width, height));
     stbi_image_free(data);
     return image;
