@@ -383,6 +383,38 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     CHECK(out.find("subtracted") == std::string::npos);
 }
 
+TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {
+    // A floor lit at 45 degrees: N = (0, 1, 0) from normals (0, 2, 0), L = (0, 1, 1) / sqrt 2,
+    // N . L = 0.70711; ambient 0.5 is linear 0.21404 (the sRGB curve), so the irradiance is
+    // 0.92115. Vertex colours 0.5 0.5 0.5 are linear 0.21404 too. The texture is a 2x2
+    // white image: the filter's value is 1. Colour: 1 x 1 x 0.21404 x 0.92115 = 0.19716.
+    const std::string dir = scratch_folder("explain-shading");
+    write_text(dir + "/white.ppm", std::string("P6\n2 2\n255\n") + std::string(12, char(255)));
+    write_text(dir + "/scene.txt",
+               "size 32 32\ncamera eye 0 3 0 target 0 0 0 up 0 0 -1 fov 90\nbackground 1 0 0\nambient 0.5 0.5 0.5\n"
+               "light directional 0 -1 -1\ntexture white file white.ppm\n"
+               "material m texture white lighting lambert vertex_colors on\n"
+               "quad material m v -2 0 2 0 0 n 0 2 0 c 0.5 0.5 0.5 v 2 0 2 1 0 n 0 2 0 c 0.5 0.5 0.5 "
+               "v 2 0 -2 1 1 n 0 2 0 c 0.5 0.5 0.5 v -2 0 -2 0 1 n 0 2 0 c 0.5 0.5 0.5\n");
+    RunResult r = run_texr("explain " + dir + "/scene.txt 16 16");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("the filter's value, linear RGBA: (1.00000, 1.00000, 1.00000, 1.00000) from 4 texel reads") != std::string::npos);
+    CHECK(r.output.find("linear colour = material colour x texture x vertex colour x irradiance") != std::string::npos);
+    CHECK(r.output.find("x vertex colour (0.21404, 0.21404, 0.21404)") != std::string::npos);
+    CHECK(r.output.find("N = (0.00000, 1.00000, 0.00000)") != std::string::npos);
+    CHECK(r.output.find("+ light 0 (directional, L = (0.00000, 0.70711, 0.70711)) (1.00000, 1.00000, 1.00000) x max(0, N . L) = x 0.70711") !=
+          std::string::npos);
+    CHECK(r.output.find("x irradiance    (0.92115, 0.92115, 0.92115)") != std::string::npos);
+    CHECK(r.output.find("    = (0.19716, 0.19716, 0.19716)") != std::string::npos);
+    CHECK(r.output.find("Written: depth") != std::string::npos);
+    CHECK(r.output.find("linear colour (0.19716, 0.19716, 0.19716)") != std::string::npos);
+    // A corner pixel the floor (x, z within 2 of the centre, a 3 high camera at 90 degrees)
+    // does not reach: the background, linear (1, 0, 0).
+    r = run_texr("explain " + dir + "/scene.txt 0 0");
+    CHECK(r.output.find("the background colour shows, linear (1.00000, 0.00000, 0.00000)") != std::string::npos);
+}
+
 TEST_CASE("texr explain names the mip levels each filter reads, with lambda, probes and ellipse worked out by hand") {
     // The square of the test above with the 1024^2 detail texture over u, v in [0, 0.375]:
     // 384 texels over 64 pixels, 6 texels per pixel along x and y, lambda = log2 6 = 2.5850.

@@ -45,7 +45,8 @@ const char* explain_help =
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
     "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
     "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
-    "texture's filter reads, and the colour. --size, --span and --span-tolerance are\n"
+    "texture's filter reads and its value, the shading (material colour, vertex colour, the\n"
+    "normal and each light), and the colour written. --size, --span and --span-tolerance are\n"
     "render's (the other render options do not apply): with a --span mode\n"
     "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
     "exact derivatives taken there, and explain says by how much they differ.\n";

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "texr/texture/ewa.h"
+#include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/wrap.h"
 
@@ -100,13 +101,59 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     return out + "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
 }
 
+// Step 6: the material's colour times what it reads, times the light, as the span walk
+// shades (scanline.h, shade): each attribute from its plane over w, divided by q.
+std::string shading(const PixelExplanation& e, const Scene& scene, const Material& m, const Color4& texel, double q) {
+    const Needs needs = needs_of(m, scene);
+    const double x = e.x + 0.5, y = e.y + 0.5;
+    const auto over_q = [&](const std::array<Plane, 3>& p) { return glm::dvec3(p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)) / q; };
+    const auto rgb = [](const Color& c) { return format("(%.5f, %.5f, %.5f)", c.x, c.y, c.z); };
+    const bool lit = m.lighting == Lighting::lambert;
+    std::string out = std::string("\n6. Shading (lighting ") + (lit ? "lambert" : "none") + "): linear colour = material colour" +
+                      (needs & need_uv ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
+    Color c = m.color;
+    out += "    material colour " + rgb(m.color) + "\n";
+    if (needs & need_uv) c *= Color(texel), out += "    x texture       " + rgb(Color(texel)) + "\n";
+    if (needs & need_color) {
+        const Color vertex(over_q(e.vertex_color));
+        c *= vertex, out += "    x vertex colour " + rgb(vertex) + " (its plane over w, / q)\n";
+    }
+    if (lit) {
+        Color irradiance = scene.ambient;
+        out += "    irradiance = ambient " + rgb(scene.ambient);
+        if (needs & need_normal) {
+            const glm::dvec3 n = glm::normalize(over_q(e.normal));
+            const glm::dvec3 world = over_q(e.world);
+            out += format(", N = (%.5f, %.5f, %.5f) (its plane over w, / q, normalised)\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+            for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+                const Light& light = scene.lights[k];
+                glm::dvec3 to_light = -light.vector;
+                if ((needs & need_world_position) && light.kind == Light::Kind::point) to_light = glm::normalize(light.vector - world);
+                const double cosine = std::max(0.0, glm::dot(n, to_light));
+                irradiance += light.color * float(cosine);
+                // (+ 0.0 turns -0 into 0 for printing)
+                out += format("      + light %.0f ", double(k)) + (light.kind == Light::Kind::point ? "(point" : "(directional") +
+                       format(", L = (%.5f, %.5f, %.5f)) ", to_light.x + 0.0, to_light.y + 0.0, to_light.z + 0.0) + rgb(light.color) +
+                       format(" x max(0, N . L) = x %.5f\n", cosine);
+            }
+        } else {
+            out += "\n";
+        }
+        c *= irradiance;
+        out += "    x irradiance    " + rgb(irradiance) + "\n";
+    }
+    return out + "    = " + rgb(c) + "\n";
+}
+
 }  // namespace
 
 std::string describe(const PixelExplanation& e, const Scene& scene) {
     const double x = e.x + 0.5, y = e.y + 0.5;
     std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + "), sampled at its centre " +
                       format("(%.1f, %.1f)\n", x, y);
-    if (!e.covered) return out + "no triangle covers it: the background colour shows\n";
+    if (!e.covered)
+        return out + format("no triangle covers it: the background colour shows, linear (%.5f, %.5f, %.5f)\n", scene.background.x,
+                            scene.background.y, scene.background.z);
 
     const Material& m = scene.materials[std::size_t(e.material)];
     const Mesh& mesh = scene.meshes[std::size_t(scene.objects[std::size_t(e.object)].mesh)];
@@ -146,6 +193,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", exact_d.dudx, exact_d.dvdx, exact_d.dudy,
                   exact_d.dvdy);
 
+    Color4 texel(1.0f);
     if (m.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
         const int w = t.mipmap->base().width(), h = t.mipmap->base().height();
@@ -199,8 +247,13 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         else  // level_of_detail's answer for a footprint of zero (or NaN) length
             out += "    level of detail: no footprint (u and v do not change here): magnified\n";
         out += levels_read(t, d, lambda);
+        std::uint64_t texels = 0;
+        texel = lookup(t, u, v, d, texels);
+        out += format("    the filter's value, linear RGBA: (%.5f, %.5f, %.5f, %.5f)", texel.x, texel.y, texel.z, texel.w) +
+               format(" from %.0f texel reads\n", double(texels));
     }
-    out += format("\n6. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);
+    out += shading(e, scene, m, texel, q);
+    out += format("\n7. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);
     return out;
 }
 

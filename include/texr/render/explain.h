@@ -1,12 +1,14 @@
 // texr explain: the story of one pixel, step by step as the lecture tells it: which
 // triangle covers it, the triangle's homography M^-1 = U diag(1/w) adj(S) and its inverse M,
 // (u', v', q) at the pixel centre, u = u'/q and v = v'/q, the exact derivatives, the level
-// of detail, the mip levels the texture's filter reads, and the colour written.
+// of detail, the mip levels the texture's filter reads and its value, the shading (material
+// colour, vertex colour, normal, each light), and the colour written.
 #pragma once
 #include <array>
 #include <string>
 
 #include "texr/raster/homography.h"
+#include "texr/raster/plane.h"
 #include "texr/raster/span_modes.h"
 #include "texr/render/needs.h"
 #include "texr/scene/scene.h"
@@ -23,6 +25,9 @@ struct PixelExplanation {
     std::array<glm::dvec2, 3> screen{};  // the piece's vertices in pixels, snapped to 1/256
     TextureHomography h;       // for the piece, with its UVs re-based by whole periods:
     glm::dvec2 uv_shift{0.0};  // the periods subtracted from u and v (repeat and mirror wraps)
+    // The piece's other attributes over w (normal, vertex colour, world position), as planes;
+    // meaningful only for those its material needs.
+    std::array<Plane, 3> normal{}, vertex_color{}, world{};
     double depth = 0.0;
     Color color{0.0f};         // linear, as written to the frame
     // The (u, v) the span walk gave the texture lookup (a span mode other than exact computes
