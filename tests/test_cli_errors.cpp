@@ -232,6 +232,30 @@ TEST_CASE("writing over a file keeps its permissions, and a symbolic link is wri
     REQUIRE(::stat((dir + "/frames/target.png").c_str(), &info) == 0);
     CHECK(info.st_size > 4);
     CHECK(std::system(("ls -a '" + dir + "/frames' '" + dir + "' | grep -q '^\\.texr-'").c_str()) != 0);  // no temporary file left
+    // A chain of links to a file not made yet: the last name is written, the links stay.
+    std::system(("cd '" + dir + "' && ln -s chain2.png chain1.png && ln -s frames/new.png chain2.png").c_str());
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/chain1.png").exit_code == 0);
+    REQUIRE(::lstat((dir + "/chain2.png").c_str(), &info) == 0);
+    CHECK(S_ISLNK(info.st_mode));
+    CHECK(file_exists(dir + "/frames/new.png"));
+    // Links in a loop, and a link to a pipe (which the rename would replace), are refused.
+    std::system(("cd '" + dir + "' && ln -s loop.png loop.png && mkfifo pipe && ln -s pipe pipe.png").c_str());
+    RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/loop.png");
+    CHECK(r.output == "texr: " + dir + "/loop.png: cannot write output file: its symbolic links go round in a loop\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/pipe.png");
+    CHECK(r.output == "texr: " + dir + "/pipe.png: cannot write output file: its link's target " + dir + "/pipe is a device or a pipe, not a file\n");
+    REQUIRE(::lstat((dir + "/pipe").c_str(), &info) == 0);
+    CHECK(S_ISFIFO(info.st_mode));
+}
+
+TEST_CASE("texr explain writes nothing and needs no writable folder") {
+    // explain renders without an output: a folder where render's default output or any
+    // placeholder name would go is no obstacle.
+    const std::string dir = scratch_folder("explain-nowrite");
+    write_text(dir + "/scene.txt", good_scene);
+    std::system(("mkdir -p '" + dir + "/unused.png' '" + dir + "/out/scene.png'").c_str());
+    const std::string command = "cd '" + dir + "' && " + std::string(TEXR_BINARY) + " explain scene.txt 16 12 > log.txt 2>&1";
+    CHECK(std::system(command.c_str()) == 0);
 }
 
 TEST_CASE("an unwritable output path fails cleanly and leaves the previous file untouched") {

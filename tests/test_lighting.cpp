@@ -37,7 +37,9 @@ glm::dvec3 point_seen(int x, int y, double h) {
     return glm::dvec3(0.0, 3.0, 0.0) + (3.0 - h) * direction;
 }
 
-const double ambient = srgb_to_linear(0.5f);  // "ambient 0.5 0.5 0.5"
+// The sRGB curve (IEC 61966-2-1), as scene colours are decoded.
+double linear_of(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+const double ambient = linear_of(0.5);  // "ambient 0.5 0.5 0.5": 0.21404
 
 }  // namespace
 
@@ -58,6 +60,14 @@ TEST_CASE("Lambert, directional light: ambient + cos of the angle, with normals 
         }
     fb = render_text(scene + "light directional 0 1 0 color 1 1 1\n");
     CHECK(fb.color[fb.index(16, 16)].x == doctest::Approx(ambient).epsilon(1e-6));
+    // Two lights, each clamped on its own: a coloured one at 45 degrees and a white one from
+    // below (which adds nothing, and takes nothing away). Each channel: ambient +
+    // linear(colour) / sqrt 2.
+    fb = render_text(scene + "light directional 0 -1 -1 color 1 0.5 0.25\nlight directional 0 1 0 color 1 1 1\n");
+    const Color c = fb.color[fb.index(16, 16)];
+    CHECK(c.x == doctest::Approx(ambient + linear_of(1.0) / std::sqrt(2.0)).epsilon(1e-5));
+    CHECK(c.y == doctest::Approx(ambient + linear_of(0.5) / std::sqrt(2.0)).epsilon(1e-5));
+    CHECK(c.z == doctest::Approx(ambient + linear_of(0.25) / std::sqrt(2.0)).epsilon(1e-5));
 }
 
 TEST_CASE("Lambert, point light: L from each pixel's own world position, normals computed from the winding") {
@@ -90,22 +100,25 @@ TEST_CASE("Lambert, point light: L from each pixel's own world position, normals
     CHECK(brightest_y == 13);
 }
 
-TEST_CASE("Lambert under a non-uniform scale: normals follow the surface (inverse transpose)") {
-    // The quad lies in the plane x + y = 0 with normals (1, 1, 0); scaled by (1, 0.25, 1) it
-    // lies in 0.25 x + y = 0 (its edges (4, -1, 0) and (0, 0, 4) give the normal
-    // (-4, -16, 0) up to sign: (0.2425, 0.9701, 0) facing up). Lit straight from above,
-    // N . L = 0.9701; scaling the normal like a position would give (1, 0.25, 0), 0.2425.
+TEST_CASE("Lambert under a non-uniform scale and a rotation: normals follow the surface (inverse transpose)") {
+    // The quad lies in the plane x + y = 0 with normals (1, 1, 0). Scaled by (1, 0.25, 1) and
+    // then turned 30 degrees about z, its edges (4, -4, 0) and (0, 0, 4) become
+    // R (4, -1, 0) = (4 cos 30 + sin 30, 4 sin 30 - cos 30, 0) and (0, 0, 4); their cross
+    // product, turned to face up, is the surface's normal. Lit straight from above, N . L is
+    // its y: 0.9615. Transforming the normal like a position gives 0.695, and the inverse
+    // without the transpose 0.731.
     const std::string scene = camera +
                               "ambient 0.5 0.5 0.5\nmaterial white color 1 1 1 lighting lambert\n"
                               "light directional 0 -1 0 color 1 1 1\n"
-                              "quad material white scale 1 0.25 1 v -2 2 -2 0 0 n 1 1 0 v 2 -2 -2 1 0 n 1 1 0 "
+                              "quad material white scale 1 0.25 1 rotate 30 0 0 1 v -2 2 -2 0 0 n 1 1 0 v 2 -2 -2 1 0 n 1 1 0 "
                               "v 2 -2 2 1 1 n 1 1 0 v -2 2 2 0 1 n 1 1 0\n";
     const Framebuffer fb = render_text(scene);
-    const glm::dvec3 edge1(4.0, -1.0, 0.0), edge2(0.0, 0.0, 4.0);
+    const double cos30 = std::sqrt(3.0) / 2.0, sin30 = 0.5;
+    const glm::dvec3 edge1(4.0 * cos30 + sin30, 4.0 * sin30 - cos30, 0.0), edge2(0.0, 0.0, 4.0);
     glm::dvec3 n = glm::normalize(glm::cross(edge1, edge2));
     if (n.y < 0.0) n = -n;
     const double expected = ambient + n.y;
-    CHECK(expected == doctest::Approx(ambient + 4.0 / std::sqrt(17.0)));
+    CHECK(n.y == doctest::Approx(0.9615).epsilon(1e-4));
     int covered = 0;
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)

@@ -25,6 +25,7 @@ std::vector<bool> covered(const Framebuffer& fb) {
 }
 
 void make_folders(const std::string& path) {
+    if (path.empty()) throw InputError("--out needs a folder name");
     std::string partial;
     for (std::size_t i = 0; i <= path.size(); ++i) {
         if ((i == path.size() || path[i] == '/') && !partial.empty() && ::mkdir(partial.c_str(), 0755) != 0 && errno != EEXIST)

@@ -2,9 +2,11 @@
 // Exit codes: 0 success, 1 bad input or failed output (one message on stderr), 2 usage error.
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -88,6 +90,7 @@ struct RenderArguments {
     bool stats = false;
     texr::SpanMode span = texr::SpanMode::incremental;
     double span_tolerance = 1.0 / 64.0;
+    bool output_given = false;  // -o given (else the default out/NAME.png)
 };
 
 int parse_positive(const std::string& text, const std::string& option) {
@@ -132,7 +135,7 @@ std::string default_output(const std::string& scene) {
 
 RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     RenderArguments args;
-    bool output_given = false;
+    bool output_given = false, tolerance_given = false;
     for (std::size_t i = 0; i < argv.size(); ++i) {
         const std::string& a = argv[i];
         auto value = [&]() -> const std::string& {
@@ -149,6 +152,7 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
             if (!texr::parse_span_mode(name, args.span))
                 throw UsageError{"unknown span mode '" + name + "' (expected exact, incremental, affine8, affine16, affine32, affine or adaptive)"};
         } else if (a == "--span-tolerance") {
+            tolerance_given = true;
             const std::string text = value();
             char* end = nullptr;
             args.span_tolerance = std::strtod(text.c_str(), &end);
@@ -160,6 +164,8 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
         else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
     }
     if (args.scene.empty()) throw UsageError{"texr render needs a scene file"};
+    if (tolerance_given && args.span != texr::SpanMode::adaptive)
+        throw UsageError{"--span-tolerance applies to --span adaptive only (the other span modes have no tolerance)"};
     if (!output_given) args.output = default_output(args.scene);
     if (args.output.empty()) throw UsageError{"-o needs a file name"};
     try {
@@ -167,9 +173,7 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     } catch (const texr::InputError& e) {
         throw UsageError{e.what()};
     }
-    // The default output goes to out/ in the current folder, made if need be.
-    if (!output_given) ::mkdir("out", 0755);
-    texr::check_output_path(args.output);  // a frame that cannot be written is refused before it is rendered
+    args.output_given = output_given;
     return args;
 }
 
@@ -203,6 +207,12 @@ int run_render(const std::vector<std::string>& argv) {
             return 0;
         }
     const RenderArguments args = parse_render_arguments(argv);
+    // The default output goes to out/ in the current folder, made if need be; a frame that
+    // cannot be written is refused before the scene is read.
+    if (!args.output_given && ::mkdir("out", 0755) != 0 && errno != EEXIST)
+        throw texr::InputError(args.output, 0, std::string("cannot make the default output folder 'out' here: ") + std::strerror(errno) +
+                                                   " (give -o PATH)");
+    texr::check_output_path(args.output);
     using Clock = std::chrono::steady_clock;
 
     const auto load_start = Clock::now();

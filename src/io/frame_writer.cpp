@@ -73,22 +73,27 @@ std::string folder_of(const std::string& path) {
     return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-// The file a write to `path` replaces: the target of a symbolic link (followed to the end),
-// else the path itself.
-std::string written_path(const std::string& path) {
-    struct stat link;
-    if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) return path;
-    char* resolved = ::realpath(path.c_str(), nullptr);
-    if (!resolved) {  // a dangling link: write its target's name, relative to the link's folder
+// The file a write to `requested` replaces: a symbolic link is followed to its end (to a
+// file that may not exist yet), so the link stays a link. Throws when the links loop, or
+// when they end at something other than a file or a folder (a device or a pipe would be
+// replaced by the rename).
+std::string written_path(const std::string& requested) {
+    std::string path = requested;
+    for (int hops = 0;; ++hops) {
+        struct stat link;
+        if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) break;
+        if (hops == 40) throw InputError(requested, 0, "cannot write output file: its symbolic links go round in a loop");
         std::string target(PATH_MAX, '\0');
         const ssize_t n = ::readlink(path.c_str(), target.data(), target.size());
-        if (n <= 0) return path;
+        if (n <= 0) break;
         target.resize(std::size_t(n));
-        return target[0] == '/' ? target : folder_of(path) + target;
+        path = target[0] == '/' ? target : folder_of(path) + target;  // relative to the link's folder
     }
-    std::string out = resolved;
-    std::free(resolved);
-    return out;
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode))
+        throw InputError(requested, 0, "cannot write output file: " + (path == requested ? std::string("it") : "its link's target " + path) +
+                                           " is a device or a pipe, not a file");
+    return path;
 }
 
 }  // namespace
@@ -103,8 +108,11 @@ void check_output_path(const std::string& requested) {
         if (::access(path.c_str(), W_OK) != 0)
             throw InputError(requested, 0, std::string("cannot write output file: it exists and cannot be replaced (") + std::strerror(errno) + ")");
     }
-    if (::stat(folder.empty() ? "." : folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
-        throw InputError(requested, 0, "cannot write output file: there is no folder '" + shown_folder + "'");
+    if (::stat(folder.empty() ? "." : folder.c_str(), &info) != 0) {
+        if (errno == ENOENT || errno == ENOTDIR) throw InputError(requested, 0, "cannot write output file: there is no folder '" + shown_folder + "'");
+        throw InputError(requested, 0, "cannot write output file: cannot reach folder '" + shown_folder + "' (" + std::strerror(errno) + ")");
+    }
+    if (!S_ISDIR(info.st_mode)) throw InputError(requested, 0, "cannot write output file: '" + shown_folder + "' is not a folder");
     // The new file is made beside the old one and renamed over it: the folder must be writable.
     if (::access(folder.empty() ? "." : folder.c_str(), W_OK | X_OK) != 0)
         throw InputError(requested, 0, "cannot write output file: cannot create files in folder '" + shown_folder + "' (" + std::strerror(errno) + ")");
