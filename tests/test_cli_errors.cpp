@@ -151,7 +151,7 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
     expect_failure("missing-texture-name", "texture t file nothere.png\n" + good_scene, "nothere.png: cannot open image file");
     expect_failure("missing-obj", good_scene + "mesh nothere.obj\n", "nothere.obj: cannot open OBJ file");
     expect_failure("not-an-image", "texture t file scene.txt\n" + good_scene,
-                   "scene.txt: not a readable image: not a PNG, JPEG, TGA, BMP or Radiance HDR image");
+                   "scene.txt: not a readable image: not a format stb_image reads");
     {  // a PNG cut short: its first 20000 of 38803 bytes
         const std::string dir = scratch_folder("cut-png");
         std::ifstream in(source_path("models/textures/detail.png"), std::ios::binary);
@@ -650,6 +650,12 @@ TEST_CASE("a missing .mtl file is refused at its mtllib line, but one of several
     write_text(dir + "/t.mtl", "newmtl paint\nKd 0 1 0\n");
     write_text(dir + "/t.obj", "mtllib nosuch.mtl t.mtl" + faces);
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+    // A name with a space, written with '\\ ' (as tinyobjloader reads it).
+    write_text(dir + "/my paint.mtl", "newmtl paint\nKd 0 1 0\n");
+    write_text(dir + "/t.obj", "mtllib my\\ paint.mtl" + faces);
+    const RunResult explained = run_texr("explain " + dir + "/scene.txt 320 240");
+    CAPTURE(explained.output);
+    CHECK(explained.output.find("material colour (0.00000, 1.00000, 0.00000)") != std::string::npos);  // its Kd
 }
 
 TEST_CASE("a scene file named as its own mesh is refused at the mesh line") {
@@ -661,19 +667,18 @@ TEST_CASE("a scene file named as its own mesh is refused at the mesh line") {
     CHECK(r.output.find("scene.txt:2: " + dir + "/scene.txt: ") != std::string::npos);
 }
 
-TEST_CASE("a .mtl Kd outside [0, 10000] names the material, at the scene line, and writes nothing") {
+TEST_CASE("a .mtl Kd that is not 3 numbers from 0 to 10000 is refused at its .mtl line, and nothing is written") {
+    // tinyobjloader reads a word that is not a number as 0 and 'Kd 0.5' as (0.5, 0, 0).
     const std::string dir = scratch_folder("kd");
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
-    for (const auto& [kd, shown] : std::vector<std::pair<std::string, std::string>>{
-             {"-0.5 0 0", "-0.5 0 0"}, {"0.2 1e30 0.2", "0.2 1e+30 0.2"}, {"0 0 10001", "0 0 10001"}}) {
-        write_text(dir + "/t.mtl", "newmtl paint\nKd " + kd + "\n");
+    for (const std::string kd : {"-0.5 0 0", "0.2 1e30 0.2", "0 0 10001", "nan 0.5 0.5", "1 x 1", "0.5", "0.1 0.2 0.3 0.4"}) {
+        write_text(dir + "/t.mtl", "# paint\nnewmtl paint\n  Kd " + kd + "\n");
         std::remove((dir + "/out.png").c_str());
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(r.output);
         CHECK(r.exit_code == 1);
-        CHECK(r.output.find("scene.txt:2: OBJ material 'paint' (Kd in its .mtl): Kd must be 3 numbers from 0 to 10000, not " + shown) !=
-              std::string::npos);
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:3: Kd needs 3 numbers from 0 to 10000, got 'Kd " + kd + "'\n");
         CHECK(!file_exists(dir + "/out.png"));
     }
     // The ends of the range render.

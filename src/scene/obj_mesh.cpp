@@ -3,6 +3,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -87,6 +88,52 @@ std::optional<long long> index_in(std::string_view word) {
     return value;
 }
 
+// The file names on an mtllib line (the text after the keyword), split as tinyobjloader
+// splits them: at spaces, with '\\' making the next character part of the name.
+std::vector<std::string> mtllib_names(const std::string& text) {
+    std::vector<std::string> names(1);
+    bool escaped = false;
+    for (const char ch : text) {
+        if (escaped) names.back() += ch, escaped = false;
+        else if (ch == '\\') escaped = true;
+        else if (ch == ' ' || ch == '\r' || ch == '\n') { if (!names.back().empty()) names.emplace_back(); }
+        else names.back() += ch;
+    }
+    if (names.back().empty()) names.pop_back();
+    // (a tab is part of a name for tinyobjloader, but only around one: drop it at the ends)
+    for (std::string& name : names) {
+        while (!name.empty() && name.front() == '\t') name.erase(0, 1);
+        while (!name.empty() && name.back() == '\t') name.pop_back();
+    }
+    return names;
+}
+
+// The Kd colours of a .mtl file: tinyobjloader reads a word that is not a number as 0 and
+// takes 'Kd 0.5' as (0.5, 0, 0); texr wants 3 numbers from 0 to max_color (scene.h).
+void check_mtl_colors(const std::string& mtl) {
+    std::ifstream in(mtl);
+    std::string line;
+    for (int line_number = 1; std::getline(in, line); ++line_number) {
+        line.erase(std::min(line.size(), line.find('#')));
+        std::istringstream words(line);
+        std::string keyword, word;
+        if (!(words >> keyword) || keyword != "Kd") continue;
+        int count = 0;
+        bool good = true;
+        while (words >> word) {
+            const std::optional<double> value = number_in(word);
+            good = good && value && *value >= 0.0 && *value <= max_color;
+            ++count;
+        }
+        if (!good || count != 3) {
+            const std::size_t start = line.find_first_not_of(" \t");
+            std::string shown = line.substr(start);
+            while (!shown.empty() && (shown.back() == '\r' || shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
+            throw InputError(mtl, line_number, "Kd needs 3 numbers from 0 to 10000, got '" + shown + "'");
+        }
+    }
+}
+
 ObjLines read_obj_lines(const std::string& path) {
     std::ifstream in(path);
     ObjLines out;
@@ -135,20 +182,24 @@ ObjLines read_obj_lines(const std::string& path) {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
             // `mtllib ../../dev/zero` read until memory ran out).
             // A missing .mtl file is refused too (its materials would silently turn grey);
-            // tinyobjloader reads the first of the names that opens, so one must exist.
+            // tinyobjloader reads the first of the names that opens, so one must exist, and
+            // its Kd lines are checked here, where their lines are known.
             std::string names;
-            bool found = false;
-            for (std::string_view word = next_word(); !word.empty(); word = next_word()) {
-                const std::string mtl = folder_of(path) + std::string(word);
+            for (const std::string& name : mtllib_names(line.substr(i))) {
+                const std::string mtl = folder_of(path) + name;
                 try {
                     require_file(mtl, "a .mtl file");
                 } catch (const InputError& e) {
                     fail("mtllib: " + std::string(e.what()));
                 }
-                found = found || bool(std::ifstream(mtl));
                 names += (names.empty() ? "" : ", ") + mtl;
+                if (std::ifstream(mtl)) {
+                    check_mtl_colors(mtl);
+                    names.clear();
+                    break;
+                }
             }
-            if (!names.empty() && !found) fail("mtllib: cannot open " + names);
+            if (!names.empty()) fail("mtllib: cannot open " + names);
         } else if (keyword == "usemtl") {
             const std::string_view word = next_word();
             if (word.empty()) continue;  // no name: the material in force stays

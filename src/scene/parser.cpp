@@ -90,11 +90,6 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
 }
 
 // --- Reading one line's values, with messages that say what was expected --------------------
-// The largest colour value a scene (or a .mtl Kd) may give. The bound keeps products of
-// colours, lights and texels finite: 10000 is about 4e9 linear, where 1e17 would be
-// infinite and turn an unlit pixel into NaN.
-constexpr double max_color = 10000.0;
-
 class Cursor {
 public:
     Cursor(const Line& line, const std::string& file) : line_(line), file_(file) {}
@@ -461,16 +456,8 @@ private:
         if (it != material_index_.end()) return it->second;
         Material m;
         m.name = info.name;
-        // .mtl Kd, taken as linear reflectance; a name no .mtl describes: the default grey.
-        // Kd is held to the scene colours' range (tinyobjloader keeps no line numbers, so
-        // the message names the material).
-        if (info.described)
-            for (int i = 0; i < 3; ++i)
-                if (!(info.diffuse[i] >= 0.0f && info.diffuse[i] <= float(max_color))) {
-                    char kd[96];
-                    std::snprintf(kd, sizeof kd, "%g %g %g", double(info.diffuse.x), double(info.diffuse.y), double(info.diffuse.z));
-                    c.fail("OBJ material '" + info.name + "' (Kd in its .mtl): Kd must be 3 numbers from 0 to 10000, not " + kd);
-                }
+        // .mtl Kd, taken as linear reflectance (read_obj_lines has checked its numbers); a
+        // name no .mtl describes: the default grey.
         m.color = info.described ? info.diffuse : default_color;
         material_from_obj_[m.name] = c.line_number();
         if (!info.diffuse_texture.empty()) {

@@ -4,6 +4,7 @@
 #include <stb_image.h>
 
 #include <array>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 
@@ -59,14 +60,17 @@ std::vector<T> flipped_rows(const T* top_down, int width, int height) {
 
 namespace {
 
-// stb_image's reason for a failure, in words a user can act on (its own are terse codes).
+// stb_image's reason for a failure, in words a user can act on (its own are terse codes,
+// and for a file cut short inside a PNG chunk, bytes past its end).
 std::string unreadable(const char* reason) {
-    const std::string r = reason ? reason : "";
-    std::string why = r;
-    if (r == "unknown image type") why = "not a PNG, JPEG, TGA, BMP or Radiance HDR image";
-    else if (r == "outofdata" || r == "bad png" || r == "corrupt JPEG" || r == "bad huffman code") why = "the file is cut short or damaged (" + r + ")";
+    std::string r = reason ? reason : "";
+    for (const char ch : r)
+        if (!std::isprint(static_cast<unsigned char>(ch))) r.clear();
+    std::string why;
+    if (r == "unknown image type") why = "not a format stb_image reads (PNG, JPEG, TGA, BMP, GIF, PSD, PIC, PPM/PGM or Radiance HDR)";
     else if (r == "outofmem") why = "out of memory";
     else if (r == "too large") why = "the image is too large to read";
+    else why = "the file is cut short or damaged" + (r.empty() ? std::string() : " (stb_image: " + r + ")");
     return "not a readable image: " + why;
 }
 

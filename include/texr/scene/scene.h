@@ -84,6 +84,11 @@ struct Scene {
     std::vector<Object> objects;
 };
 
+// The largest colour value a scene (or a .mtl Kd) may give. The bound keeps products of
+// colours, lights and texels finite: 10000 is about 4e9 linear, where 1e17 would be
+// infinite and turn an unlit pixel into NaN.
+constexpr double max_color = 10000.0;
+
 // Largest frame texr renders: each side at most 16384 and at most 64 Mpixel in all.
 constexpr int max_image_side = 16384;
 constexpr long long max_image_pixels = 64LL * 1024 * 1024;

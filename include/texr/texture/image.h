@@ -98,7 +98,8 @@ private:
 // The table that reads 8-bit data texels as k / 255.
 const float* unorm8_to_float_table();
 
-// Loads PNG, JPEG, TGA, BMP (8-bit) or Radiance HDR (float) with stb_image.
+// Loads what stb_image reads: PNG, JPEG, TGA, BMP, GIF, PSD, PIC, PPM/PGM (8-bit) or
+// Radiance HDR (float).
 // `space` says how 8-bit texels are to be read: srgb for colour, linear for data.
 // Throws InputError naming the file when it cannot be read.
 Image load_image(const std::string& path, ColorSpace space);
