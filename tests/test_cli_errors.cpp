@@ -163,6 +163,14 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
         CHECK(cut.exit_code == 1);
         CHECK(cut.output.find("scene.txt:1: " + dir + "/cut.png: not a readable image: the file is cut short or damaged") !=
               std::string::npos);
+        // A binary PPM whose texels end early (stb_image would read it): 2x2x3 = 12 bytes
+        // asked for, 5 given; with a comment in the header.
+        write_text(dir + "/cut.ppm", "P6\n# two by two\n2 2\n255\nabcde");
+        write_text(dir + "/scene.txt", "texture t file cut.ppm\n" + good_scene);
+        const RunResult ppm = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(ppm.exit_code == 1);
+        CHECK(ppm.output.find("cut.ppm: not a readable image: the file is cut short (its header asks for 12 bytes of texels, it holds 5)") !=
+              std::string::npos);
     }
     const RunResult r = run_texr("render does-not-exist.scene -o nowhere.png");
     CHECK(r.exit_code == 1);

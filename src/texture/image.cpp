@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <sys/stat.h>
 
 #include "texr/core/error.h"
 
@@ -74,11 +75,41 @@ std::string unreadable(const char* reason) {
     return "not a readable image: " + why;
 }
 
+// stb_image reads a binary PPM/PGM (P6/P5) that ends early without a word, filling the
+// rest with whatever it has; the header says how long the file must be. Returns the
+// message for a file that is shorter, or "".
+std::string short_pnm(const std::string& path) {
+    struct stat info;
+    if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return "";  // (a pipe is read once, by stb_image)
+    std::ifstream in(path, std::ios::binary);
+    char magic[2] = {0, 0};
+    if (!in.read(magic, 2) || magic[0] != 'P' || (magic[1] != '5' && magic[1] != '6')) return "";
+    long long values[3] = {0, 0, 0};  // width, height, largest value
+    for (long long& value : values) {
+        int ch = in.get();
+        while (ch == '#' || std::isspace(ch)) {  // whitespace and comments before a number
+            if (ch == '#')
+                while (ch != '\n' && ch != EOF) ch = in.get();
+            ch = in.get();
+        }
+        if (!std::isdigit(ch)) return "";  // stb_image will say what is wrong
+        for (; std::isdigit(ch) && value < (1LL << 40); ch = in.get()) value = value * 10 + (ch - '0');
+    }
+    const long long needed = values[0] * values[1] * (magic[1] == '6' ? 3 : 1) * (values[2] > 255 ? 2 : 1);
+    const std::streamoff start = in.tellg();  // after the one whitespace character that ends the header
+    in.seekg(0, std::ios::end);
+    const long long have = start < 0 ? 0 : (long long)(in.tellg() - start);
+    if (have >= needed) return "";
+    return "not a readable image: the file is cut short (its header asks for " + std::to_string(needed) + " bytes of texels, it holds " +
+           std::to_string(have) + ")";
+}
+
 }  // namespace
 
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
     if (!std::ifstream(path)) throw InputError(path, 0, "cannot open image file");
+    if (const std::string cut = short_pnm(path); !cut.empty()) throw InputError(path, 0, cut);
     int width = 0, height = 0, channels = 0;
     if (stbi_is_hdr(path.c_str())) {
         float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 4);
