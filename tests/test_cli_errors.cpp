@@ -316,6 +316,17 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     r = run_texr("render " + scene + " --span-tolerance 2000");
     CHECK(r.exit_code == 2);
     CHECK(r.output.find("at most 1000") != std::string::npos);
+    // A tolerance only the adaptive mode reads: with another mode (or the default) it would
+    // be ignored, so it is refused.
+    for (const std::string mode : {"", " --span exact", " --span affine16"}) {
+        r = run_texr("render " + scene + mode + " --span-tolerance 0.1");
+        CHECK(r.exit_code == 2);
+        CHECK(r.output == "texr: --span-tolerance applies to --span adaptive only (the other span modes have no tolerance)\n");
+    }
+    for (const std::string command : {"--threads 300", "--spp 65"}) {
+        r = run_texr("render " + scene + " " + command);
+        CHECK(r.output == "texr: " + command + " is out of range (" + (command[2] == 't' ? "1..256" : "1..64") + ")\n");
+    }
     // texr bench takes the same ranges as texr render.
     for (const char* option : {"--threads 300", "--spp 65", "--threads 0"}) {
         r = run_texr(std::string("bench filters --out ") + dir + "/bench " + option);
