@@ -360,6 +360,21 @@ TEST_CASE("help documents every option") {
     CHECK(r.output.find("--size") != std::string::npos);
 }
 
+TEST_CASE("an empty frame is written, with a note that says why it is empty") {
+    // The camera looks away from the triangle (at +z, the triangle is at z = 0 behind it).
+    const std::string dir = scratch_folder("empty-frame");
+    write_text(dir + "/scene.txt", "size 32 24\ncamera eye 0 0 3 target 0 0 6\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n");
+    RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png --repeat 2");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(file_exists(dir + "/out.png"));
+    CHECK(r.output.find("texr: note: no surface is in the frame, only the background: of 1 triangles, 1 were culled") != std::string::npos);
+    // Facing the triangle: no note.
+    write_text(dir + "/scene.txt", "size 32 24\ncamera eye 0 0 3\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output.find("note:") == std::string::npos);
+}
+
 TEST_CASE("--stats and --repeat report counters and a median frame time") {
     const std::string dir = scratch_folder("stats");
     write_text(dir + "/scene.txt", good_scene);
