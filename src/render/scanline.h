@@ -396,7 +396,11 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
     e.covered = true;
     e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
     e.screen = s.screen, e.h = s.h, e.uv_shift = s.uv_shift, e.depth = fb.depth[i], e.color = fb.color[i];
-    e.normal = s.normal, e.vertex_color = s.color, e.world = s.world;
+    // (the planes a material does not need are not set up: left as they are)
+    const Needs needs = needs_of(d.material, d.scene);
+    if (needs & need_normal) e.normal = s.normal;
+    if (needs & need_color) e.vertex_color = s.color;
+    if (needs & need_world_position) e.world = s.world;
 }
 
 template <Needs N>

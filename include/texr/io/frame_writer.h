@@ -24,12 +24,13 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
 
 // Whether a file could be written at `path`, checked before any work is done: throws
 // InputError naming the path and the reason (its folder is missing or not writable, the
-// path is a folder, or an existing file there is read-only).
+// path is a folder, an existing file there cannot be replaced, or it is a link to a device
+// or a pipe, or links in a loop).
 void check_output_path(const std::string& path);
 
 // Writes `bytes` to `path` through a temporary file and a rename. An existing file keeps its
-// permissions, and a symbolic link is written through (its target is replaced, the link
-// stays). Throws InputError naming the path when it cannot be written.
+// permission bits, and a symbolic link is written through (its target is replaced, the
+// link stays). Throws InputError naming the path when it cannot be written.
 void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes);
 
 void write_frame(const Framebuffer& fb, const std::string& path);
