@@ -171,6 +171,21 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
         CHECK(ppm.exit_code == 1);
         CHECK(ppm.output.find("cut.ppm: not a readable image: the file is cut short (its header asks for 12 bytes of texels, it holds 5)") !=
               std::string::npos);
+        // What stb_image would misread: a size of 0 (which crashed the render), a size beyond
+        // its reach, 16-bit samples, and a comment ended by CR before a short file.
+        for (const auto& [header, message] : std::vector<std::pair<std::string, std::string>>{
+                 {"P6\n0 0\n255\n", "its header gives a size of 0x0"},
+                 {"P6\n3 0\n255\n", "its header gives a size of 3x0"},
+                 {"P6\n4294967296 4294967296\n255\n", "its header gives a size of 4294967296x4294967296"},
+                 {"P5\n2 2\n65535\n", "a 16-bit PPM/PGM (largest value 65535); texr reads 8-bit ones"},
+                 {"P6\r# c\r2 2\r255\r", "the file is cut short (its header asks for 12 bytes of texels, it holds 9)"}}) {
+            write_text(dir + "/bad.ppm", header + std::string(9, 'x'));
+            write_text(dir + "/scene.txt", "texture t file bad.ppm\n" + good_scene);
+            const RunResult bad = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+            CAPTURE(header);
+            CHECK(bad.exit_code == 1);
+            CHECK(bad.output.find("bad.ppm: not a readable image: " + message) != std::string::npos);
+        }
     }
     const RunResult r = run_texr("render does-not-exist.scene -o nowhere.png");
     CHECK(r.exit_code == 1);

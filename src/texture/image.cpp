@@ -75,9 +75,9 @@ std::string unreadable(const char* reason) {
     return "not a readable image: " + why;
 }
 
-// stb_image reads a binary PPM/PGM (P6/P5) that ends early without a word, filling the
-// rest with whatever it has; the header says how long the file must be. Returns the
-// message for a file that is shorter, or "".
+// stb_image misreads some binary PPM/PGM (P6/P5) files without a word: one that ends early
+// (the rest filled with whatever it has; the header says how long the file must be), a
+// 16-bit one (read as 8-bit samples), a size of 0. Returns the message for such a file, or "".
 std::string short_pnm(const std::string& path) {
     struct stat info;
     if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return "";  // (a pipe is read once, by stb_image)
@@ -89,13 +89,17 @@ std::string short_pnm(const std::string& path) {
         int ch = in.get();
         while (ch == '#' || std::isspace(ch)) {  // whitespace and comments before a number
             if (ch == '#')
-                while (ch != '\n' && ch != EOF) ch = in.get();
+                while (ch != '\n' && ch != '\r' && ch != EOF) ch = in.get();
             ch = in.get();
         }
         if (!std::isdigit(ch)) return "";  // stb_image will say what is wrong
         for (; std::isdigit(ch) && value < (1LL << 40); ch = in.get()) value = value * 10 + (ch - '0');
     }
-    const long long needed = values[0] * values[1] * (magic[1] == '6' ? 3 : 1) * (values[2] > 255 ? 2 : 1);
+    // (stb_image would read 16-bit samples as 8-bit ones, and a side of 0 as an empty image)
+    if (values[2] > 255) return "not a readable image: a 16-bit PPM/PGM (largest value " + std::to_string(values[2]) + "); texr reads 8-bit ones";
+    if (values[0] == 0 || values[1] == 0 || values[0] > (1 << 24) || values[1] > (1 << 24))
+        return "not a readable image: its header gives a size of " + std::to_string(values[0]) + "x" + std::to_string(values[1]);
+    const long long needed = values[0] * values[1] * (magic[1] == '6' ? 3 : 1);
     const std::streamoff start = in.tellg();  // after the one whitespace character that ends the header
     in.seekg(0, std::ios::end);
     const long long have = start < 0 ? 0 : (long long)(in.tellg() - start);
@@ -114,12 +118,14 @@ Image load_image(const std::string& path, ColorSpace space) {
     if (stbi_is_hdr(path.c_str())) {
         float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 4);
         if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
+        if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
         Image image = Image::hdr(width, height, flipped_rows(data, width, height));
         stbi_image_free(data);
         return image;
     }
     unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
     if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
+    if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
     Image image = Image::ldr(width, height, space, flipped_rows(data, width, height));
     stbi_image_free(data);
     return image;
