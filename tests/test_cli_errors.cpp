@@ -383,7 +383,7 @@ TEST_CASE("an empty frame is written, with a note that says why it is empty") {
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
     CHECK(file_exists(dir + "/out.png"));
-    CHECK(r.output.find("texr: note: no surface is in the frame, only the background: of 1 triangles, 1 were culled") != std::string::npos);
+    CHECK(r.output.find("texr: note: no surface is in the frame, only the background (triangles in: 1; culled: 1,") != std::string::npos);
     // Facing the triangle: no note.
     write_text(dir + "/scene.txt", "size 32 24\ncamera eye 0 0 3\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n");
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
@@ -733,6 +733,23 @@ TEST_CASE("a .mtl Kd that is not 3 numbers from 0 to 10000 is refused at its .mt
     // The ends of the range render.
     write_text(dir + "/t.mtl", "newmtl paint\nKd 0 10000 1\n");
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+    // Every .mtl tinyobjloader reads is checked: lines ended by CR alone (as it splits them),
+    // and a second file on a line whose first an earlier mtllib line loaded (it skips that one).
+    write_text(dir + "/t.mtl", "newmtl paint\rKd 0.5\r");
+    RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:2: Kd needs 3 numbers from 0 to 10000, got 'Kd 0.5'\n");
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 0 1 0\n");
+    write_text(dir + "/b.mtl", "newmtl paint\nKd 0.5\n");
+    write_text(dir + "/t.obj", "mtllib t.mtl\nmtllib t.mtl b.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/b.mtl:2: Kd needs 3 numbers from 0 to 10000, got 'Kd 0.5'\n");
+    // An OBJ in a folder whose name holds ':' finds its .mtl beside it.
+    std::system(("mkdir -p '" + dir + "/a:b'").c_str());
+    write_text(dir + "/a:b/t.mtl", "newmtl paint\nKd 0 0 1\n");
+    write_text(dir + "/a:b/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh a:b/t.obj\n");
+    r = run_texr("explain " + dir + "/scene.txt 320 240");
+    CHECK(r.output.find("material colour (0.00000, 0.00000, 1.00000)") != std::string::npos);
 }
 
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {

@@ -252,9 +252,9 @@ int run_render(const std::vector<std::string>& argv) {
     if (stats.pixels_shaded == 0) {  // an empty frame is rarely what was meant: say why it is empty
         const auto per_frame = [&](std::uint64_t v) { return (unsigned long long)(v / std::uint64_t(args.repeat)); };
         std::fprintf(stderr,
-                     "texr: note: no surface is in the frame, only the background: of %llu triangles, %llu were culled "
-                     "(outside the view, facing away with cull back, or covering no pixel centre) and %llu dropped (NaN/Inf "
-                     "or zero area)\n",
+                     "texr: note: no surface is in the frame, only the background (triangles in: %llu; culled: %llu, "
+                     "counting each piece clipping made: outside the view, facing away with cull back, or covering no "
+                     "pixel centre; dropped as NaN/Inf or zero area: %llu)\n",
                      per_frame(stats.triangles_in), per_frame(stats.triangles_culled), per_frame(stats.triangles_dropped));
     }
     return 0;

@@ -107,7 +107,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     const Needs needs = needs_of(m, scene);
     const double x = e.x + 0.5, y = e.y + 0.5;
     const auto over_q = [&](const std::array<Plane, 3>& p) { return glm::dvec3(p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)) / q; };
-    const auto rgb = [](const Color& c) { return format("(%.5f, %.5f, %.5f)", c.x, c.y, c.z); };
+    const auto rgb = [](const Color& c) { return format("(%.5f, %.5f, %.5f)", c.x + 0.0, c.y + 0.0, c.z + 0.0); };  // (no "-0")
     const bool lit = m.lighting == Lighting::lambert;
     std::string out = std::string("\n6. Shading (lighting ") + (lit ? "lambert" : "none") + "): linear colour = material colour" +
                       (needs & need_uv ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";

@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string_view>
 #include <tuple>
@@ -88,32 +89,38 @@ std::optional<long long> index_in(std::string_view word) {
     return value;
 }
 
-// The file names on an mtllib line (the text after the keyword), split as tinyobjloader
-// splits them: at spaces, with '\\' making the next character part of the name.
+// The file names on an mtllib line, split as tinyobjloader splits them: the text from one
+// character after the keyword, at spaces only (a tab is part of a name), with '\\' making
+// the next character part of the name; the last, possibly empty, name is kept.
 std::vector<std::string> mtllib_names(const std::string& text) {
-    std::vector<std::string> names(1);
+    std::vector<std::string> names;
+    std::string name;
     bool escaped = false;
     for (const char ch : text) {
-        if (escaped) names.back() += ch, escaped = false;
-        else if (ch == '\\') escaped = true;
-        else if (ch == ' ' || ch == '\r' || ch == '\n') { if (!names.back().empty()) names.emplace_back(); }
-        else names.back() += ch;
+        if (escaped) escaped = false;
+        else if (ch == '\\') { escaped = true; continue; }
+        else if (ch == ' ') {
+            if (!name.empty()) names.push_back(name);
+            name.clear();
+            continue;
+        }
+        name += ch;
     }
-    if (names.back().empty()) names.pop_back();
-    // (a tab is part of a name for tinyobjloader, but only around one: drop it at the ends)
-    for (std::string& name : names) {
-        while (!name.empty() && name.front() == '\t') name.erase(0, 1);
-        while (!name.empty() && name.back() == '\t') name.pop_back();
-    }
+    names.push_back(name);
     return names;
 }
 
-// The Kd colours of a .mtl file: tinyobjloader reads a word that is not a number as 0 and
-// takes 'Kd 0.5' as (0.5, 0, 0); texr wants 3 numbers from 0 to max_color (scene.h).
-void check_mtl_colors(const std::string& mtl) {
-    std::ifstream in(mtl);
-    std::string line;
-    for (int line_number = 1; std::getline(in, line); ++line_number) {
+// The Kd colours of a .mtl file's text (lines end at LF, CR or CRLF, as tinyobjloader reads
+// them): it reads a word that is not a number as 0 and takes 'Kd 0.5' as (0.5, 0, 0); texr
+// wants 3 numbers from 0 to max_color (scene.h) on every Kd line.
+void check_mtl_colors(const std::string& mtl, const std::string& text) {
+    int line_number = 0;
+    for (std::size_t start = 0; start < text.size();) {
+        ++line_number;
+        std::size_t end = text.find_first_of("\r\n", start);
+        if (end == std::string::npos) end = text.size();
+        std::string line = text.substr(start, end - start);
+        start = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
         line.erase(std::min(line.size(), line.find('#')));
         std::istringstream words(line);
         std::string keyword, word;
@@ -126,13 +133,34 @@ void check_mtl_colors(const std::string& mtl) {
             ++count;
         }
         if (!good || count != 3) {
-            const std::size_t start = line.find_first_not_of(" \t");
-            std::string shown = line.substr(start);
-            while (!shown.empty() && (shown.back() == '\r' || shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
+            std::string shown = line.substr(line.find_first_not_of(" \t"));
+            while (!shown.empty() && (shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
             throw InputError(mtl, line_number, "Kd needs 3 numbers from 0 to 10000, got '" + shown + "'");
         }
     }
 }
+
+// The .mtl files tinyobjloader reads, opened next to the OBJ (its own reader takes ':' in
+// the folder's path as a separator), their Kd lines checked before it reads them.
+class MtlReader : public tinyobj::MaterialReader {
+public:
+    explicit MtlReader(std::string folder) : folder_(std::move(folder)) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials, std::map<std::string, int>* names,
+                    std::string* warning, std::string* error) override {
+        const std::string path = folder_ + name;
+        std::ifstream in(path, std::ios::binary);
+        if (name.empty() || !in) return false;
+        std::ostringstream text;
+        text << in.rdbuf();
+        check_mtl_colors(path, text.str());
+        std::istringstream stream(text.str());
+        tinyobj::LoadMtl(names, materials, &stream, warning, error);
+        return true;
+    }
+
+private:
+    std::string folder_;
+};
 
 ObjLines read_obj_lines(const std::string& path) {
     std::ifstream in(path);
@@ -145,6 +173,7 @@ ObjLines read_obj_lines(const std::string& path) {
         int part, line;
     };
     std::vector<Reference> ahead;  // checked against the whole file's counts at its end
+    std::set<std::string> mtl_loaded;  // .mtl names an mtllib line has loaded
     const char* const what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};  // by part of a corner
     const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
     std::string line;
@@ -184,22 +213,28 @@ ObjLines read_obj_lines(const std::string& path) {
             // A missing .mtl file is refused too (its materials would silently turn grey);
             // tinyobjloader reads the first of the names that opens, so one must exist, and
             // its Kd lines are checked here, where their lines are known.
+            // (tinyobjloader skips a file an earlier mtllib line loaded, and tries the next.)
             std::string names;
-            for (const std::string& name : mtllib_names(line.substr(i))) {
+            bool found = false;
+            std::string rest = i < line.size() ? line.substr(i + 1) : std::string();
+            if (!rest.empty() && rest.back() == '\r') rest.pop_back();  // (tinyobjloader drops a line's CR)
+            for (const std::string& name : mtllib_names(rest)) {
+                if (name.empty()) continue;
                 const std::string mtl = folder_of(path) + name;
                 try {
                     require_file(mtl, "a .mtl file");
                 } catch (const InputError& e) {
                     fail("mtllib: " + std::string(e.what()));
                 }
+                if (mtl_loaded.count(name) > 0) { found = true; continue; }
                 names += (names.empty() ? "" : ", ") + mtl;
                 if (std::ifstream(mtl)) {
-                    check_mtl_colors(mtl);
-                    names.clear();
+                    found = true;
+                    mtl_loaded.insert(name);
                     break;
                 }
             }
-            if (!names.empty()) fail("mtllib: cannot open " + names);
+            if (!found && !names.empty()) fail("mtllib: cannot open " + names);
         } else if (keyword == "usemtl") {
             const std::string_view word = next_word();
             if (word.empty()) continue;  // no name: the material in force stays
@@ -248,7 +283,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     {
         std::ifstream file(path);
         std::istringstream cleaned(lines.clean ? text_without_comments(path) : std::string());
-        tinyobj::MaterialFileReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
+        MtlReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
         std::string warning, error;
         if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, lines.clean ? static_cast<std::istream*>(&cleaned) : &file,
                               &mtl_files, /*triangulate=*/true, /*default_vcols_fallback=*/false))
