@@ -482,6 +482,23 @@ TEST_CASE("texr explain shades the pixel step by step: texture value, vertex col
     CHECK(r.output.find("    = (0.19716, 0.19716, 0.19716)") != std::string::npos);
     CHECK(r.output.find("Written: depth") != std::string::npos);
     CHECK(r.output.find("linear colour (0.19716, 0.19716, 0.19716)") != std::string::npos);
+    // A point light straight above the point pixel (16, 16) sees: the ray through its centre,
+    // (0, 3, 0) + 3 (1/32, -1, 1/32), meets the floor at (0.09375, 0, 0.09375); with the
+    // light at height 1000 above it, L = (0, 1, 0) to 5 decimals and N . L = 1.
+    std::string scene_text;
+    {
+        std::ifstream in(dir + "/scene.txt");
+        std::getline(in, scene_text, '\0');
+    }
+    const std::string directional = "light directional 0 -1 -1";
+    std::string pointed = scene_text;
+    pointed.replace(pointed.find(directional), directional.size(), "light point 0.09375 1000 0.09375");
+    write_text(dir + "/point.txt", pointed);
+    r = run_texr("explain " + dir + "/point.txt 16 16");
+    CAPTURE(r.output);
+    CHECK(r.output.find("+ light 0 (point, L = (0.00000, 1.00000, 0.00000)) (1.00000, 1.00000, 1.00000) x max(0, N . L) = x 1.00000") !=
+          std::string::npos);
+    CHECK(r.output.find("x irradiance    (1.21404, 1.21404, 1.21404)") != std::string::npos);
     // A corner pixel the floor (x, z within 2 of the centre, a 3 high camera at 90 degrees)
     // does not reach: the background, linear (1, 0, 0).
     r = run_texr("explain " + dir + "/scene.txt 0 0");
