@@ -463,12 +463,13 @@ TEST_CASE("texr explain shades the pixel step by step: texture value, vertex col
     // white image: the filter's value is 1. Colour: 1 x 1 x 0.21404 x 0.92115 = 0.19716.
     const std::string dir = scratch_folder("explain-shading");
     write_text(dir + "/white.ppm", std::string("P6\n2 2\n255\n") + std::string(12, char(255)));
-    write_text(dir + "/scene.txt",
-               "size 32 32\ncamera eye 0 3 0 target 0 0 0 up 0 0 -1 fov 90\nbackground 1 0 0\nambient 0.5 0.5 0.5\n"
-               "light directional 0 -1 -1\ntexture white file white.ppm\n"
-               "material m texture white lighting lambert vertex_colors on\n"
+    const auto scene_with = [](const std::string& light) {
+        return "size 32 32\ncamera eye 0 3 0 target 0 0 0 up 0 0 -1 fov 90\nbackground 1 0 0\nambient 0.5 0.5 0.5\n" + light +
+               "\ntexture white file white.ppm\nmaterial m texture white lighting lambert vertex_colors on\n"
                "quad material m v -2 0 2 0 0 n 0 2 0 c 0.5 0.5 0.5 v 2 0 2 1 0 n 0 2 0 c 0.5 0.5 0.5 "
-               "v 2 0 -2 1 1 n 0 2 0 c 0.5 0.5 0.5 v -2 0 -2 0 1 n 0 2 0 c 0.5 0.5 0.5\n");
+               "v 2 0 -2 1 1 n 0 2 0 c 0.5 0.5 0.5 v -2 0 -2 0 1 n 0 2 0 c 0.5 0.5 0.5\n";
+    };
+    write_text(dir + "/scene.txt", scene_with("light directional 0 -1 -1"));
     RunResult r = run_texr("explain " + dir + "/scene.txt 16 16");
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
@@ -485,15 +486,7 @@ TEST_CASE("texr explain shades the pixel step by step: texture value, vertex col
     // A point light straight above the point pixel (16, 16) sees: the ray through its centre,
     // (0, 3, 0) + 3 (1/32, -1, 1/32), meets the floor at (0.09375, 0, 0.09375); with the
     // light at height 1000 above it, L = (0, 1, 0) to 5 decimals and N . L = 1.
-    std::string scene_text;
-    {
-        std::ifstream in(dir + "/scene.txt");
-        std::getline(in, scene_text, '\0');
-    }
-    const std::string directional = "light directional 0 -1 -1";
-    std::string pointed = scene_text;
-    pointed.replace(pointed.find(directional), directional.size(), "light point 0.09375 1000 0.09375");
-    write_text(dir + "/point.txt", pointed);
+    write_text(dir + "/point.txt", scene_with("light point 0.09375 1000 0.09375"));
     r = run_texr("explain " + dir + "/point.txt 16 16");
     CAPTURE(r.output);
     CHECK(r.output.find("+ light 0 (point, L = (0.00000, 1.00000, 0.00000)) (1.00000, 1.00000, 1.00000) x max(0, N . L) = x 1.00000") !=

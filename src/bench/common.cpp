@@ -33,7 +33,7 @@ void make_folders(const std::string& path) {
         if (i < path.size()) partial += path[i];
     }
     struct stat info;
-    if (!path.empty() && (::stat(path.c_str(), &info) != 0 || !S_ISDIR(info.st_mode)))
+    if (::stat(path.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
         throw InputError(path, 0, "cannot make the output folder: a file of that name is in the way");
     // Every benchmark writes its files here at its end: find out now, not after the work.
     check_output_path(path + "/index.md");

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "texr/core/error.h"
+#include "texr/core/path.h"
 
 namespace texr {
 
@@ -66,12 +67,6 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
 }
 
 namespace {
-
-// The folder part of a path, with its slash ("" for a bare name: the current folder).
-std::string folder_of(const std::string& path) {
-    const auto slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
 
 // The file a write to `requested` replaces: a symbolic link is followed to its end (to a
 // file that may not exist yet), so the link stays a link. Throws when the links loop, or

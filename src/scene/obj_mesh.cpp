@@ -19,15 +19,11 @@
 #include <unordered_map>
 
 #include "texr/core/error.h"
+#include "texr/core/path.h"
 
 namespace texr {
 
 namespace {
-
-std::string folder_of(const std::string& path) {
-    const auto slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
 
 // First line of tinyobjloader's message, without its trailing newline.
 std::string first_line(const std::string& text) {

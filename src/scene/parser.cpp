@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "texr/core/error.h"
+#include "texr/core/path.h"
 #include "texr/scene/obj_mesh.h"
 
 namespace texr {
@@ -176,11 +177,6 @@ Enum choose(Cursor& c, const std::string& what, const std::map<std::string, Enum
 
 const std::map<std::string, Wrap> wrap_names = {
     {"repeat", Wrap::repeat}, {"mirror", Wrap::mirror}, {"clamp", Wrap::clamp}, {"border", Wrap::border}};
-
-std::string folder_of(const std::string& path) {
-    const auto slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
 
 // A path from the scene file: absolute as written, otherwise relative to the scene's folder.
 std::string relative_to(const std::string& folder, const std::string& path) {
