@@ -65,7 +65,8 @@ Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.
                 x0 = std::min(x0, x), x1 = std::max(x1, x + 1);
         }
         if (x1 - x0 < 2) continue;
-        const int divides = span_texture_coordinates(mode, t, y, x0, x1 - x0, u.data(), v.data());
+        CoordinateBound bound;
+        const int divides = span_texture_coordinates(mode, t, y, x0, x1 - x0, u.data(), v.data(), bound);
         e.divides += divides;
         ++e.spans;
         // The span walk's shortcut: a span it steps itself is one the mode steps throughout.
@@ -73,10 +74,18 @@ Errors measure(SpanMode mode, double tolerance = 1.0 / 64.0, double v_far = 500.
             CHECK(divides == x1 - x0);
             ++e.stepped_spans;
         }
+        double u_max = 0.0, v_max = 0.0;
         for (int x = x0; x < x1; ++x) {
             const glm::dvec2 direct = floor.h.uv_at(x + 0.5, y + 0.5);
             e.max = std::max({e.max, std::fabs(u[x - x0] - direct.x) * 256, std::fabs(v[x - x0] - direct.y) * 256});
+            u_max = std::max(u_max, std::fabs(u[x - x0])), v_max = std::max(v_max, std::fabs(v[x - x0]));
         }
+        // The bound is the largest of the values the mode computed, and every value written,
+        // interpolated ones included, is within 2^-48 of it.
+        CHECK(bound.u <= u_max);
+        CHECK(bound.v <= v_max);
+        CHECK(u_max <= bound.u * (1.0 + 0x1p-48));
+        CHECK(v_max <= bound.v * (1.0 + 0x1p-48));
     }
     return e;
 }
@@ -144,7 +153,36 @@ TEST_CASE("an empty span writes nothing in every mode") {
     t.h = &floor.h, t.u_affine = floor.u_affine, t.v_affine = floor.v_affine;
     double u[1] = {-7.0}, v[1] = {-7.0};
     for (int m = 0; m < span_mode_count; ++m) {
-        CHECK(span_texture_coordinates(SpanMode(m), t, 400, 1000, 0, u, v) == 0);
+        CoordinateBound bound;
+        CHECK(span_texture_coordinates(SpanMode(m), t, 400, 1000, 0, u, v, bound) == 0);
+        CHECK((bound.u == 0.0 && bound.v == 0.0));
         CHECK(u[0] == -7.0);
+    }
+}
+
+TEST_CASE("the coordinate bound keeps a NaN once it has seen one") {
+    CoordinateBound b;
+    b.include(-3.0, 2.0);
+    CHECK((b.u == 3.0 && b.v == 2.0));
+    b.include(std::nan(""), 1.0);
+    CHECK(std::isnan(b.u));
+    b.include(5.0, -7.0);  // a larger value later does not hide the NaN
+    CHECK(std::isnan(b.u));
+    CHECK(b.v == 7.0);
+    // In every mode: a NaN in u' (or, for affine, in u's screen-space plane) reaches the bound.
+    const Floor floor;
+    TextureHomography h = floor.h;
+    h.u_prime.c = std::nan("");
+    SpanTexturing t;
+    t.h = &h, t.u_affine = floor.u_affine, t.v_affine = floor.v_affine;
+    t.u_affine.c = std::nan("");
+    t.width = t.height = 256;
+    std::vector<double> u(600), v(600);
+    for (int m = 0; m < span_mode_count; ++m) {
+        CAPTURE(span_mode_name(SpanMode(m)));
+        CoordinateBound bound;
+        span_texture_coordinates(SpanMode(m), t, 400, 700, 600, u.data(), v.data(), bound);
+        CHECK(std::isnan(bound.u));
+        CHECK(!std::isnan(bound.v));
     }
 }

@@ -20,26 +20,33 @@ inline void exact_at(const TextureHomography& h, double x, double yc, double& u,
 }
 
 // Fills the pixels from a to b (either order, a != b) linearly between exact values at a
-// and b; u[a], v[a] are given.
-inline void linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v) {
+// and b; u[a], v[a] are given (and in `bound`), the exact value at b is added to `bound`.
+// The pixels between need not be: with M the larger of |u[a]| and |u[b]|, each is
+// u[a] + du k with du = (u[b] - u[a]) (1/L) and 0 < k < L, which is within M after five
+// roundings: at most M (1 + 10 2^-53) < M (1 + 2^-48) (CoordinateBound).
+inline void linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v,
+                           CoordinateBound& bound) {
     exact_at(h, double(b), yc, u[b - x0], v[b - x0]);
+    bound.include(u[b - x0], v[b - x0]);
     const double inv_length = 1.0 / double(b - a);
-    const double du = (u[b - x0] - u[a - x0]) * inv_length, dv = (v[b - x0] - v[a - x0]) * inv_length;
-    const int step = b > a ? 1 : -1;
-    for (int x = a + step; x != b; x += step) {
-        u[x - x0] = u[a - x0] + du * (x - a);
-        v[x - x0] = v[a - x0] + dv * (x - a);
-    }
+    const double ua = u[a - x0], va = v[a - x0];
+    const double du = (u[b - x0] - ua) * inv_length, dv = (v[b - x0] - va) * inv_length;
+    // The pixels strictly between, in increasing x whichever way the sub-span was walked,
+    // each array in a loop of its own: loops the compiler turns into vector instructions.
+    const int from = std::min(a, b) + 1, to = std::max(a, b);
+    for (int x = from; x < to; ++x) u[x - x0] = ua + du * double(x - a);
+    for (int x = from; x < to; ++x) v[x - x0] = va + dv * double(x - a);
 }
 
-int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double* u, double* v) {
+int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double* u, double* v, CoordinateBound& bound) {
     const double yc = y + 0.5;
     exact_at(*t.h, x0, yc, u[0], v[0]);
+    bound.include(u[0], v[0]);
     int divides = 1;
     const int last = x0 + n - 1;
     for (int a = x0; a < last;) {
         const int b = std::min(a + length, last);
-        linear_between(*t.h, yc, x0, a, b, u, v);
+        linear_between(*t.h, yc, x0, a, b, u, v, bound);
         ++divides;
         a = b;
     }
@@ -69,7 +76,7 @@ double adaptive_fit(const SpanTexturing& t, double curvature, double q) {
     return std::sqrt(8.0 * t.tolerance * q * q * q / curvature);
 }
 
-int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
+int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v, CoordinateBound& bound) {
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
     const int last = x0 + n - 1;
@@ -80,6 +87,7 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
     const int direction = h.q.dx >= 0.0 ? 1 : -1;
     const int first = direction > 0 ? x0 : last, end = direction > 0 ? last : x0;
     exact_at(h, first, yc, u[first - x0], v[first - x0]);
+    bound.include(u[first - x0], v[first - x0]);
     int divides = 1;
     for (int a = first; a != end;) {
         const int remaining = (end - a) * direction;
@@ -100,13 +108,14 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v)
                 up.advance(), vp.advance(), q.advance();
                 const double inv_q = 1.0 / q.value;
                 u[x - x0] = up.value * inv_q, v[x - x0] = vp.value * inv_q;
+                bound.include(u[x - x0], v[x - x0]);
             }
             divides += std::abs(b - a);
             a = b;
             continue;
         }
         const int b = a + direction * length;
-        linear_between(h, yc, x0, a, b, u, v);
+        linear_between(h, yc, x0, a, b, u, v, bound);
         ++divides;
         a = b;
     }
@@ -136,13 +145,14 @@ bool parse_span_mode(const std::string& name, SpanMode& out) {
     return false;
 }
 
-int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v) {
+int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v,
+                             CoordinateBound& bound) {
     if (n <= 0) return 0;  // an empty span
     const TextureHomography& h = *t.h;
     const double yc = y + 0.5;
     switch (mode) {
         case SpanMode::exact:
-            for (int k = 0; k < n; ++k) exact_at(h, x0 + k, yc, u[k], v[k]);
+            for (int k = 0; k < n; ++k) exact_at(h, x0 + k, yc, u[k], v[k]), bound.include(u[k], v[k]);
             return n;
         case SpanMode::incremental: {
             SteppedPlane up = SteppedPlane::start(h.u_prime, x0, y), vp = SteppedPlane::start(h.v_prime, x0, y),
@@ -150,19 +160,20 @@ int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x
             for (int k = 0; k < n; ++k) {
                 const double inv_q = 1.0 / q.value;
                 u[k] = up.value * inv_q, v[k] = vp.value * inv_q;
+                bound.include(u[k], v[k]);
                 up.advance(), vp.advance(), q.advance();
             }
             return n;
         }
-        case SpanMode::affine8: return subdivided(t, 8, y, x0, n, u, v);
-        case SpanMode::affine16: return subdivided(t, 16, y, x0, n, u, v);
-        case SpanMode::affine32: return subdivided(t, 32, y, x0, n, u, v);
+        case SpanMode::affine8: return subdivided(t, 8, y, x0, n, u, v, bound);
+        case SpanMode::affine16: return subdivided(t, 16, y, x0, n, u, v, bound);
+        case SpanMode::affine32: return subdivided(t, 32, y, x0, n, u, v, bound);
         case SpanMode::affine: {
             SteppedPlane au = SteppedPlane::start(t.u_affine, x0, y), av = SteppedPlane::start(t.v_affine, x0, y);
-            for (int k = 0; k < n; ++k) u[k] = au.value, v[k] = av.value, au.advance(), av.advance();
+            for (int k = 0; k < n; ++k) u[k] = au.value, v[k] = av.value, bound.include(u[k], v[k]), au.advance(), av.advance();
             return 0;
         }
-        case SpanMode::adaptive: return adaptive(t, y, x0, n, u, v);
+        case SpanMode::adaptive: return adaptive(t, y, x0, n, u, v, bound);
     }
     return 0;
 }

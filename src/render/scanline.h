@@ -196,9 +196,9 @@ template <TexturePath P>
 // by at most about n 2^-53 times the larger end's magnitude: the factor 2 kept on |u'|
 // covers that for u', but for q the drift is relative to the larger q, which can be 1e12
 // times the smaller one, so it is subtracted (generously: n 2^-50) before halving.
-// Other span modes: the precomputed coordinates themselves.
+// Other span modes: the bound their span mode kept on the coordinates it computed.
 inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped, SteppedPlane u_prime, SteppedPlane v_prime,
-                                         SteppedPlane q, int n, const double* us, const double* vs) {
+                                         SteppedPlane q, int n, const CoordinateBound& given) {
     if (stepped) {
         const double last = double(n - 1);
         const double q_end = q.value + q.step * last;
@@ -209,15 +209,12 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
         const double v_max = 2.0 * std::max(std::fabs(v_prime.value), std::fabs(v_prime.value + v_prime.step * last));
         return minify_detail::within_short_path_limit(u_max / q_min, v_max / q_min, t.base.width, t.base.height);
     }
-    // |u W| + 1 < limit for every pixel (false for NaN), as within_short_path_limit, with
-    // the bound on |u| worked out once: a compare per coordinate, which the compiler can do
-    // for several pixels per instruction.
-    // (Shrunk by 2^-50, so that rounding can only send a span to the general path.)
-    const double u_limit = (short_path_limit - 1.0) / t.base.width * (1.0 - 0x1p-50);
-    const double v_limit = (short_path_limit - 1.0) / t.base.height * (1.0 - 0x1p-50);
-    int within = 1;
-    for (int i = 0; i < n; ++i) within &= int(std::fabs(us[i]) < u_limit) & int(std::fabs(vs[i]) < v_limit);
-    return within != 0;
+    // |u W| + 1 < limit for every pixel (false for NaN), as within_short_path_limit, from the
+    // bound the span mode kept while computing them: each |u| is at most given.u (1 + 2^-48).
+    // (The limit is shrunk by 2^-46, so that rounding can only send a span to the general path.)
+    const double u_limit = (short_path_limit - 1.0) / t.base.width * (1.0 - 0x1p-46);
+    const double v_limit = (short_path_limit - 1.0) / t.base.height * (1.0 - 0x1p-46);
+    return given.u < u_limit && given.v < v_limit;
 }
 
 // Spans shorter than this are walked pixel by pixel. (The 1M-triangle terrain, whose spans
@@ -295,6 +292,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     // Texture coordinates: stepped here (incremental), or precomputed for the span by
     // another span mode, which may need no divide per pixel at all.
     bool stepped_uv = (N & need_uv) != 0 && d.span_mode == SpanMode::incremental;
+    CoordinateBound bound;  // of the precomputed coordinates
     if constexpr ((N & need_uv) != 0)
         if (!stepped_uv) {
             SpanTexturing t;
@@ -303,7 +301,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
             if (d.span_mode == SpanMode::adaptive && adaptive_steps_whole_span(t, y, x0, span.x1 - x0))
                 stepped_uv = true;  // it would step every pixel: step them here
             else
-                span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch);
+                span_texture_coordinates(d.span_mode, t, y, x0, span.x1 - x0, d.u_scratch, d.v_scratch, bound);
         }
 
     SteppedPlane depth = SteppedPlane::start(s.depth, x0, y);
@@ -315,7 +313,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     if constexpr ((N & need_color) != 0) color = SteppedVector::start(s.color, x0, y);
     if constexpr ((N & need_world_position) != 0) world = SteppedVector::start(s.world, x0, y);
     if constexpr (!general) {
-        if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, d.u_scratch, d.v_scratch))
+        if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, bound))
             return shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, short_path);
         if (P != TexturePath::nearest && span.x1 - x0 >= batched_from)
             return shade_span_batched<N, P>(d, s, y, span, fb, stats, short_path, stepped_uv, depth, q, u_prime, v_prime, normal);

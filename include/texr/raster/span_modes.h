@@ -17,6 +17,7 @@
 // that bound stays <= tolerance. Where it allows fewer than 16 pixels (near a horizon), the
 // next 32 pixels are stepped as in the incremental mode, a divide each.
 #pragma once
+#include <cmath>
 #include <string>
 
 #include "texr/raster/homography.h"
@@ -36,9 +37,26 @@ struct SpanTexturing {
     double tolerance = 1.0 / 64.0;   // adaptive: the largest error allowed, in texels
 };
 
+// A bound on the coordinates a span mode wrote: every |u| written is at most u (1 + 2^-48),
+// every |v| at most v (1 + 2^-48); NaN if any of them is NaN. The values a mode computes
+// itself are included one by one; those it interpolates between two computed values are
+// bounded by the larger of the two, up to a few roundings (span_modes.cpp, linear_between),
+// so they need no look. The span walk checks a span against the texture paths' limits with
+// it, instead of reading every pixel's coordinates once more.
+struct CoordinateBound {
+    double u = 0.0, v = 0.0;
+    void include(double a, double b) {
+        // NaN sticks: once u is NaN, no comparison with it is true.
+        if (!(std::fabs(a) <= u) && u == u) u = std::fabs(a);
+        if (!(std::fabs(b) <= v) && v == v) v = std::fabs(b);
+    }
+};
+
 // Texture coordinates of pixels x0 .. x0 + n - 1 of row y (sampled at pixel centres) into
-// u[0..n) and v[0..n). Returns the number of divisions it made.
-int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v);
+// u[0..n) and v[0..n), and a bound on them into `bound` (which starts at 0, 0). Returns the
+// number of divisions it made.
+int span_texture_coordinates(SpanMode mode, const SpanTexturing& t, int y, int x0, int n, double* u, double* v,
+                             CoordinateBound& bound);
 
 // Whether the adaptive mode steps every pixel of this span: the bound allows fewer than 16
 // pixels even where q is largest. The span walk then steps them itself, as in the
