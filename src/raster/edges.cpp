@@ -77,15 +77,20 @@ Span span_for_row(const TriangleEdges& t, int y, int width) {
     std::int64_t lo = first_column, hi = last_column;
     if (lo > hi) return {0, 0};
     if (hi - lo < 16) {
-        // A narrow triangle: test the few candidate centres directly (no divisions). The
-        // covered centres of a row are contiguous, the triangle being convex.
-        auto inside = [&](std::int64_t x) {
-            return slope[0] * x + offset[0] >= 0 && slope[1] * x + offset[1] >= 0 && slope[2] * x + offset[2] >= 0;
-        };
-        while (lo <= hi && !inside(lo)) ++lo;
-        std::int64_t end = lo;
-        while (end <= hi && inside(end)) ++end;
-        return lo < end ? Span{int(lo), int(end)} : Span{0, 0};
+        // A narrow triangle: test the few candidate centres directly (no divisions), without
+        // a branch per centre: the three edge values are stepped along the row, and a centre
+        // is inside when none is negative, i.e. when the sign bit of their OR is clear. The
+        // covered centres of a row are contiguous, the triangle being convex, so the mask of
+        // inside centres is one run of bits: its lowest bit and its length give the span.
+        std::int64_t e0 = slope[0] * lo + offset[0], e1 = slope[1] * lo + offset[1], e2 = slope[2] * lo + offset[2];
+        std::uint32_t inside = 0;
+        for (int k = 0; k <= int(hi - lo); ++k) {
+            inside |= std::uint32_t((e0 | e1 | e2) >= 0) << k;
+            e0 += slope[0], e1 += slope[1], e2 += slope[2];
+        }
+        if (inside == 0) return {0, 0};
+        const int first = int(lo) + __builtin_ctz(inside);
+        return {first, first + __builtin_popcount(inside)};
     }
     for (int k = 0; k < 3; ++k) {
         if (slope[k] > 0) lo = std::max(lo, ceil_div(-offset[k], slope[k]));
