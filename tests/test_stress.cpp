@@ -367,6 +367,41 @@ TEST_CASE("stress: the short texture paths read what the general path reads, up 
     }
 }
 
+TEST_CASE("stress: the short paths and the general path agree on spans just short of and just past 1e15 texels") {
+    // The short paths take a span only when every (u, v) is below the limit, 1e15 texels
+    // (1.5625e13 periods of this 64-texel texture); past it the general path reads no
+    // fraction. A square 60 units wide seen from 5 units above: one coordinate goes from 0
+    // to 4 along each row, the other from 0 to 1.15 times the limit down the square (UVs are
+    // re-based per triangle, so only their range counts). The camera looks at where the
+    // limit is reached, so that about nine rows lie in each per cent above the limit: a
+    // limit checked a per cent too high (or a bound on the coordinates a per cent too low)
+    // sends those rows the wrong way. In every span mode, the large coordinate on u, then v.
+    constexpr double limit_periods = 1e15 / 64.0;
+    const double far_end = 1.15 * limit_periods;
+    const double z_limit = 30.0 - 60.0 / 1.15;  // where the large coordinate reaches the limit
+    for (Filter filter : short_path_filters) {
+        for (SpanMode mode : compared_span_modes) {
+            for (bool large_u : {true, false}) {
+                CAPTURE(filter_name(filter));
+                CAPTURE(int(mode));
+                CAPTURE(large_u);
+                Scene scene = testing::camera_scene(96, 96, {0, 5, z_limit}, {0, 0, z_limit - 0.001}, 60.0, 0.1, 100.0);
+                add_texture(scene, filter);
+                const auto corner = [&](double x, double z) {
+                    const double small = (x + 30.0) * (4.0 / 60.0), large = z > 0 ? 0.0 : far_end;
+                    return large_u ? vertex(x, 0, z, large, small) : vertex(x, 0, z, small, large);
+                };
+                testing::add_triangle(scene, {corner(-30, 30), corner(30, 30), corner(30, -30)}, 0);
+                testing::add_triangle(scene, {corner(-30, 30), corner(30, -30), corner(-30, -30)}, 0);
+                RenderOptions options;
+                options.span_mode = mode;
+                const Framebuffer fb = check_short_paths_equal_general(scene, options).fb;
+                CHECK(check_frame(fb).drawn == 96 * 96);
+            }
+        }
+    }
+}
+
 TEST_CASE("the batched span walk of the short paths gives the pixel-by-pixel walk's frame") {
     // The short paths (but nearest) walk a span in batches of pixels: depth tests first, then
     // coordinates and levels, then lookups. Spans here are longer than a batch, pixels in the

@@ -41,8 +41,12 @@ struct SpanTexturing {
 // every |v| at most v (1 + 2^-48); NaN if any of them is NaN. The values a mode computes
 // itself are included one by one; those it interpolates between two computed values are
 // bounded by the larger of the two, up to a few roundings (span_modes.cpp, linear_between),
-// so they need no look. The span walk checks a span against the texture paths' limits with
-// it, instead of reading every pixel's coordinates once more.
+// so they need no look. This holds for values of normal size: where the two ends differ
+// by more than the largest double, or the step between them underflows, or both ends are
+// infinite, the values between can be infinite, a little larger than the bound or NaN while
+// the bound is finite or infinite. Such bounds are above 9e307 or below 1e-300, far from any
+// limit they are checked against. The span walk checks a span against the texture paths'
+// limits with it, instead of reading every pixel's coordinates once more.
 struct CoordinateBound {
     double u = 0.0, v = 0.0;
     void include(double a, double b) {
