@@ -50,9 +50,9 @@ struct SpanTexturing {
 struct CoordinateBound {
     double u = 0.0, v = 0.0;
     void include(double a, double b) {
-        // NaN sticks: once u is NaN, no comparison with it is true.
-        if (!(std::fabs(a) <= u) && u == u) u = std::fabs(a);
-        if (!(std::fabs(b) <= v) && v == v) v = std::fabs(b);
+        // A NaN value enters (no comparison with it is true) and then stays.
+        if (!(std::fabs(a) <= u) && !std::isnan(u)) u = std::fabs(a);
+        if (!(std::fabs(b) <= v) && !std::isnan(v)) v = std::fabs(b);
     }
 };
 
