@@ -388,6 +388,7 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
     shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, t);
 }
 
+template <Needs N>
 void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb) {
     PixelExplanation& e = *d.explain;
     const std::size_t i = fb.index(e.x, e.y);
@@ -395,10 +396,9 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
     e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
     e.screen = s.screen, e.h = s.h, e.uv_shift = s.uv_shift, e.depth = fb.depth[i], e.color = fb.color[i];
     // (the planes a material does not need are not set up: left as they are)
-    const Needs needs = needs_of(d.material, d.scene);
-    if (needs & need_normal) e.normal = s.normal;
-    if (needs & need_color) e.vertex_color = s.color;
-    if (needs & need_world_position) e.world = s.world;
+    if constexpr ((N & need_normal) != 0) e.normal = s.normal;
+    if constexpr ((N & need_color) != 0) e.vertex_color = s.color;
+    if constexpr ((N & need_world_position) != 0) e.world = s.world;
 }
 
 template <Needs N>
@@ -420,7 +420,7 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         if (!fb.coverage.empty())  // test instrumentation: every covered pixel, before the depth test
             for (int x = span.x0; x < span.x1; ++x) ++fb.coverage[fb.index(x, y)];
         shade_span<N>(d, s, y, span, fb, stats, path, short_path);
-        if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record(d, s, fb);
+        if (explained && fb.depth[fb.index(d.explain->x, y)] != depth_before) record<N>(d, s, fb);
     }
 }
 

@@ -131,7 +131,7 @@ void check_mtl_colors(const std::string& mtl, const std::string& text) {
         if (!good || count != 3) {
             std::string shown = line.substr(line.find_first_not_of(" \t"));
             while (!shown.empty() && (shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
-            throw InputError(mtl, line_number, "Kd needs 3 numbers from 0 to 10000, got '" + shown + "'");
+            throw InputError(mtl, line_number, "Kd needs 3 numbers from 0 to " + max_color_text() + ", got '" + shown + "'");
         }
     }
 }

@@ -145,7 +145,7 @@ public:
         const glm::dvec3 c = vec3(what);
         for (int i = 0; i < 3; ++i) {
             if (c[i] < 0.0) fail(what + " must not be negative");
-            if (c[i] > max_color) fail(what + " must be at most 10000");
+            if (c[i] > max_color) fail(what + " must be at most " + max_color_text());
         }
         return c;
     }

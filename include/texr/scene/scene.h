@@ -88,6 +88,8 @@ struct Scene {
 // colours, lights and texels finite: 10000 is about 4e9 linear, where 1e17 would be
 // infinite and turn an unlit pixel into NaN.
 constexpr double max_color = 10000.0;
+// max_color as messages print it.
+inline std::string max_color_text() { return std::to_string(int(max_color)); }
 
 // Largest frame texr renders: each side at most 16384 and at most 64 Mpixel in all.
 constexpr int max_image_side = 16384;
