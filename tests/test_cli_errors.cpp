@@ -956,6 +956,28 @@ TEST_CASE("a folder or a device named as a mesh, texture, .mtl or scene is refus
     CHECK(file_exists(dir + "/piped.png"));
 }
 
+TEST_CASE("a texture read from a pipe renders as the same file does") {
+    // A pipe can be read once: the loader read the format through one open and decoded
+    // through another, which waited for a second writer for ever (`timeout` turns such a wait
+    // into a failure). Now the file is read once, and decoded from memory.
+    const std::string dir = scratch_folder("texture-pipe");
+    std::system(("cp " + source_path("models/textures/checker.png") + " " + dir + "/file.png && mkfifo " + dir + "/pipe.png").c_str());
+    for (const std::string name : {"file", "pipe"})
+        write_text(dir + "/" + name + ".txt", "size 32 24\ncamera eye 0 0 3\ntexture t file " + name +
+                                                  ".png filter bilinear\nmaterial m texture t\n"
+                                                  "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/file.txt -o " + dir + "/file.ppm").exit_code == 0);
+    const std::string piped = "cat " + dir + "/file.png > " + dir + "/pipe.png & timeout 20 " + TEXR_BINARY + " render " + dir +
+                              "/pipe.txt -o " + dir + "/pipe.ppm > /dev/null 2>&1";
+    CHECK(std::system(piped.c_str()) == 0);
+    const auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    CHECK(bytes(dir + "/file.ppm").size() > 32 * 24 * 3);
+    CHECK(bytes(dir + "/pipe.ppm") == bytes(dir + "/file.ppm"));
+}
+
 TEST_CASE("texr explain measures a node-registered texture's footprint in spacings between nodes") {
     // A 5x5 node texture (nodes at u = 0, 1/4, ..., 1) on a square filling a 16x16 frame with
     // u and v from 0 to 2: 1/8 per pixel, half a node spacing, so lambda = log2(1/2) = -1

@@ -3,11 +3,12 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cstring>
 #include <fstream>
-#include <sys/stat.h>
+#include <limits>
 
 #include "texr/core/error.h"
 
@@ -78,52 +79,65 @@ std::string unreadable(const char* reason) {
 // stb_image misreads some binary PPM/PGM (P6/P5) files without a word: one that ends early
 // (the rest filled with whatever it has; the header says how long the file must be), a
 // 16-bit one (read as 8-bit samples), a size of 0. Returns the message for such a file, or "".
-std::string short_pnm(const std::string& path) {
-    struct stat info;
-    if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return "";  // (a pipe is read once, by stb_image)
-    std::ifstream in(path, std::ios::binary);
-    char magic[2] = {0, 0};
-    if (!in.read(magic, 2) || magic[0] != 'P' || (magic[1] != '5' && magic[1] != '6')) return "";
+std::string short_pnm(const std::vector<unsigned char>& file) {
+    if (file.size() < 2 || file[0] != 'P' || (file[1] != '5' && file[1] != '6')) return "";
+    std::size_t at = 2;
+    const auto get = [&]() -> int { return at < file.size() ? file[at++] : EOF; };
     long long values[3] = {0, 0, 0};  // width, height, largest value
     for (long long& value : values) {
-        int ch = in.get();
+        int ch = get();
         while (ch == '#' || std::isspace(ch)) {  // whitespace and comments before a number
             if (ch == '#')
-                while (ch != '\n' && ch != '\r' && ch != EOF) ch = in.get();
-            ch = in.get();
+                while (ch != '\n' && ch != '\r' && ch != EOF) ch = get();
+            ch = get();
         }
         if (!std::isdigit(ch)) return "";  // stb_image will say what is wrong
-        for (; std::isdigit(ch) && value < (1LL << 40); ch = in.get()) value = value * 10 + (ch - '0');
+        for (; std::isdigit(ch) && value < (1LL << 40); ch = get()) value = value * 10 + (ch - '0');
     }
     // (stb_image would read 16-bit samples as 8-bit ones, and a side of 0 as an empty image)
     if (values[2] > 255) return "not a readable image: a 16-bit PPM/PGM (largest value " + std::to_string(values[2]) + "); texr reads 8-bit ones";
     if (values[0] == 0 || values[1] == 0 || values[0] > (1 << 24) || values[1] > (1 << 24))
         return "not a readable image: its header gives a size of " + std::to_string(values[0]) + "x" + std::to_string(values[1]);
-    const long long needed = values[0] * values[1] * (magic[1] == '6' ? 3 : 1);
-    const std::streamoff start = in.tellg();  // after the one whitespace character that ends the header
-    in.seekg(0, std::ios::end);
-    const long long have = start < 0 ? 0 : (long long)(in.tellg() - start);
+    const long long needed = values[0] * values[1] * (file[1] == '6' ? 3 : 1);
+    const long long have = (long long)(file.size() - std::min(at, file.size()));  // after the one whitespace character that ends the header
     if (have >= needed) return "";
     return "not a readable image: the file is cut short (its header asks for " + std::to_string(needed) + " bytes of texels, it holds " +
            std::to_string(have) + ")";
+}
+
+// The whole file, read once (a pipe can be read only once; stb_image then decodes from memory).
+std::vector<unsigned char> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, "cannot open image file");
+    std::vector<unsigned char> bytes;
+    char chunk[1 << 16];
+    while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+        bytes.insert(bytes.end(), chunk, chunk + in.gcount());
+        // (stb_image takes the length as an int)
+        if (bytes.size() > std::size_t(std::numeric_limits<int>::max()))
+            throw InputError(path, 0, "not a readable image: the file is larger than 2 GiB");
+    }
+    if (in.bad()) throw InputError(path, 0, "cannot read image file");
+    return bytes;
 }
 
 }  // namespace
 
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
-    if (!std::ifstream(path)) throw InputError(path, 0, "cannot open image file");
-    if (const std::string cut = short_pnm(path); !cut.empty()) throw InputError(path, 0, cut);
+    const std::vector<unsigned char> file = file_bytes(path);
+    if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
+    const int length = int(file.size());
     int width = 0, height = 0, channels = 0;
-    if (stbi_is_hdr(path.c_str())) {
-        float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 4);
+    if (stbi_is_hdr_from_memory(file.data(), length)) {
+        float* data = stbi_loadf_from_memory(file.data(), length, &width, &height, &channels, 4);
         if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
         if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
         Image image = Image::hdr(width, height, flipped_rows(data, width, height));
         stbi_image_free(data);
         return image;
     }
-    unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
+    unsigned char* data = stbi_load_from_memory(file.data(), length, &width, &height, &channels, 4);
     if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
     if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
     Image image = Image::ldr(width, height, space, flipped_rows(data, width, height));
