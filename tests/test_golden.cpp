@@ -68,3 +68,29 @@ TEST_CASE("golden: every filter on the receding benchmark plane") {
         check_golden("models/bench/plane.scene", 192, 144, std::string("plane-") + filter_name(filter) + ".png", &filter);
     }
 }
+
+TEST_CASE("a PNG frame decodes to exactly the 8-bit sRGB bytes it was encoded from, as the PPM holds them") {
+    // PNG is lossless whatever filter and compression level the writer chooses; stb_image's
+    // decoder is the independent reader. Frames: the textured demo (noisy texels) and the
+    // plane (large flat sky), at a size whose rows are not a multiple of 4 bytes.
+    for (const char* file : {"models/demo.scene", "models/plane.scene"}) {
+        CAPTURE(file);
+        const Scene scene = load_scene(testing::source_path(file));
+        RenderStats stats;
+        const Framebuffer fb = render(scene, {161, 97}, stats);
+        const std::vector<std::uint8_t> rgb = encode_srgb8(fb), png = encode_frame(fb, FrameFormat::png),
+                                        ppm = encode_frame(fb, FrameFormat::ppm);
+        int w = 0, h = 0, channels = 0;
+        unsigned char* decoded = stbi_load_from_memory(png.data(), int(png.size()), &w, &h, &channels, 3);
+        REQUIRE(decoded != nullptr);
+        CHECK(w == 161);
+        CHECK(h == 97);
+        CHECK(channels == 3);
+        CHECK(std::vector<std::uint8_t>(decoded, decoded + rgb.size()) == rgb);
+        stbi_image_free(decoded);
+        const std::string header = "P6\n161 97\n255\n";
+        REQUIRE(ppm.size() == header.size() + rgb.size());
+        CHECK(std::vector<std::uint8_t>(ppm.begin() + long(header.size()), ppm.end()) == rgb);
+        CHECK(png.size() < rgb.size() / 2);  // compressed, not stored
+    }
+}
