@@ -100,6 +100,23 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("continued-option", good_scene + "material m \\\n  color 1 0 0 \\\n  colour 1 0 0\n",
                    "scene.txt:7: unknown material option 'colour'");
     expect_failure("continued-count", good_scene + quad + "\n", "scene.txt:8: quad needs 4 vertices");
+    // Checks made once the whole command is read name the line of the value they refuse.
+    const std::string objects = "material red color 1 0 0\ntriangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
+    expect_failure("continued-fov", "camera eye 0 0 3 \\\n  fov 0 \\\n  near 0.1 far 10\n" + objects,
+                   "scene.txt:2: fov must be between 0 and 180 degrees");
+    expect_failure("continued-near-far", "camera near 5 \\\n  far 1 \\\n  fov 40\n" + objects, "scene.txt:2: camera needs 0 < near < far");
+    expect_failure("continued-eye", "camera eye 0 0 3 \\\n  target 0 0 3 \\\n  fov 40\n" + objects,
+                   "scene.txt:2: camera eye and target must differ");
+    expect_failure("continued-up", "camera up 0 0 1 \\\n  fov 40 \\\n  eye 0 0 3 \\\n  near 1\n" + objects,
+                   "scene.txt:3: camera up must not be parallel to the view direction");
+    expect_failure("continued-file", good_scene + "texture t \\\n  file nope.png \\\n  filter nearest\n",
+                   "scene.txt:6: texr-test-continued-file/nope.png: cannot open image file");
+    expect_failure("continued-mesh", good_scene + "mesh \\\n  nope.obj \\\n  cull back\n",
+                   "scene.txt:6: texr-test-continued-mesh/nope.obj: cannot open OBJ file");
+    expect_failure("continued-normals", good_scene + quad + " n 0 0 1 \\\n  v -1 1 0 0 1 n 0 0 1\n",
+                   "scene.txt:6: quad has a normal 'n' on 2 of its 4 vertices");
+    expect_failure("continued-colours", good_scene + "quad v -1 -1 0 0 0 c 1 0 0 \\\n  v 1 -1 0 1 0 c 1 0 0 \\\n  v 1 1 0 1 1 \\\n  v -1 1 0 0 1 c 1 0 0\n",
+                   "scene.txt:7: quad has a colour 'c' on 3 of its 4 vertices");
     // Normals and colours on every vertex of a triangle or quad, or on none.
     expect_failure("some-normals", "triangle v 0 0 0 0 0 n 0 0 1 v 1 0 0 1 0 v 0 1 0 0 1 n 0 0 1\n",
                    "scene.txt:1: triangle has a normal 'n' on 2 of its 3 vertices: give one after every vertex, or none");

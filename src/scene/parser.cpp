@@ -1,6 +1,7 @@
 // Scene file parser (format: docs/scene-format.md).
 #include "texr/scene/parser.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -95,9 +96,13 @@ public:
     Cursor(const Line& line, const std::string& file) : line_(line), file_(file) {}
 
     // At the line of the token read last (a command continued with '\\' spans several lines).
-    [[noreturn]] void fail(const std::string& message) const {
-        throw InputError(file_, next_ > 0 ? line_.token_lines[next_ - 1] : line_.number, message);
+    [[noreturn]] void fail(const std::string& message) const { fail_at(next_ - 1, message); }
+    // At the line of token `token` (from mark()): for a check made after more words were read.
+    [[noreturn]] void fail_at(std::size_t token, const std::string& message) const {
+        throw InputError(file_, token < line_.token_lines.size() ? line_.token_lines[token] : line_.number, message);
     }
+    // The token read last (0: the command's name).
+    std::size_t mark() const { return next_ - 1; }
     bool done() const { return next_ >= line_.tokens.size(); }
     int line_number() const { return line_.number; }
     const std::string& peek() const { return line_.tokens[next_]; }
@@ -229,21 +234,24 @@ private:
 
     void camera(Cursor& c) {
         Camera& cam = scene_.camera;
+        // Where each value was given, for the checks made once all are read (0: not given).
+        std::size_t fov_at = 0, depth_at = 0, view_at = 0, up_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a camera option");
-            if (key == "eye") cam.eye = c.vec3("eye");
-            else if (key == "target") cam.target = c.vec3("target");
-            else if (key == "up") cam.up = c.vec3("up");
-            else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees");
-            else if (key == "near") cam.near = c.number("the near distance");
-            else if (key == "far") cam.far = c.number("the far distance");
+            if (key == "eye") cam.eye = c.vec3("eye"), view_at = c.mark();
+            else if (key == "target") cam.target = c.vec3("target"), view_at = c.mark();
+            else if (key == "up") cam.up = c.vec3("up"), up_at = c.mark();
+            else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees"), fov_at = c.mark();
+            else if (key == "near") cam.near = c.number("the near distance"), depth_at = c.mark();
+            else if (key == "far") cam.far = c.number("the far distance"), depth_at = c.mark();
             else c.fail("unknown camera option '" + key + "' (expected eye, target, up, fov, near or far)");
         }
-        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) c.fail("fov must be between 0 and 180 degrees");
-        if (!(cam.near > 0.0 && cam.far > cam.near)) c.fail("camera needs 0 < near < far");
+        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) c.fail_at(fov_at, "fov must be between 0 and 180 degrees");
+        if (!(cam.near > 0.0 && cam.far > cam.near)) c.fail_at(depth_at, "camera needs 0 < near < far");
         const glm::dvec3 view = cam.target - cam.eye;
-        if (glm::length(view) == 0.0) c.fail("camera eye and target must differ");
-        if (glm::length(glm::cross(view, cam.up)) == 0.0) c.fail("camera up must not be parallel to the view direction");
+        if (glm::length(view) == 0.0) c.fail_at(view_at, "camera eye and target must differ");
+        if (glm::length(glm::cross(view, cam.up)) == 0.0)
+            c.fail_at(std::max(up_at, view_at), "camera up must not be parallel to the view direction");
     }
 
     void texture(Cursor& c) {
@@ -252,9 +260,10 @@ private:
         if (texture_index_.count(t.name)) c.fail("texture '" + t.name + "' is defined twice");
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
+        std::size_t file_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a texture option");
-            if (key == "file") t.path = relative_to(folder_, c.word("an image file name"));
+            if (key == "file") t.path = relative_to(folder_, c.word("an image file name")), file_at = c.mark();
             else if (key == "filter") {
                 std::map<std::string, Filter> filters;
                 for (int f = 0; f < filter_count; ++f) filters[filter_name(Filter(f))] = Filter(f);
@@ -286,7 +295,7 @@ private:
             else c.fail("unknown texture option '" + key + "' (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
         }
         if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
-        t.image = image(c, t.path, space);
+        t.image = image(c, file_at, t.path, space);
         // The border colour is in the texels' space: sRGB for a colour image (decoded, as every
         // scene colour), the values themselves for data and HDR images, whose texels are read
         // as they are (a normal map's border 0.5 0.5 1 is the normal (0, 0, 1)).
@@ -298,8 +307,10 @@ private:
         scene_.textures.push_back(std::move(t));
     }
 
-    // `context` says where the path came from when it is not this line ("cube.mtl map_Kd: ").
-    std::shared_ptr<const Image> image(Cursor& c, const std::string& path, ColorSpace space, const std::string& context = "") {
+    // `at`: the token that named the file (errors are reported at its line); `context` says
+    // where the path came from when it is not this line ("cube.mtl map_Kd: ").
+    std::shared_ptr<const Image> image(Cursor& c, std::size_t at, const std::string& path, ColorSpace space,
+                                       const std::string& context = "") {
         const std::string key = path + (space == ColorSpace::srgb ? "|srgb" : "|linear");
         auto it = images_.find(key);
         if (it != images_.end()) return it->second;
@@ -308,9 +319,9 @@ private:
             images_[key] = loaded;
             return loaded;
         } catch (const InputError& e) {
-            c.fail(context + e.what());
+            c.fail_at(at, context + e.what());
         } catch (const std::bad_alloc&) {  // a huge image: say which
-            c.fail(context + path + ": out of memory reading the image");
+            c.fail_at(at, context + path + ": out of memory reading the image");
         }
     }
 
@@ -411,6 +422,7 @@ private:
 
     void mesh(Cursor& c) {
         const std::string path = relative_to(folder_, c.word("an OBJ file name"));
+        const std::size_t path_at = c.mark();  // OBJ, .mtl and map_Kd errors are reported at its line
         Object object;
         int material = -1;
         while (!c.done()) {
@@ -422,7 +434,7 @@ private:
         bool resolver_failed = false;  // its messages already name this line
         auto resolve = [&](const ObjMaterialInfo& info) {
             try {
-                return resolve_material(c, info, material);
+                return resolve_material(c, path_at, info, material);
             } catch (...) {
                 resolver_failed = true;
                 throw;
@@ -433,18 +445,18 @@ private:
             mesh = load_obj(path, resolve);
         } catch (const InputError& e) {
             if (resolver_failed) throw;
-            c.fail(e.what());
+            c.fail_at(path_at, e.what());
         } catch (const std::bad_alloc&) {  // a huge mesh: say which
-            c.fail(path + ": out of memory reading the OBJ file");
+            c.fail_at(path_at, path + ": out of memory reading the OBJ file");
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
-        add_object(c, std::move(mesh), object, path);
+        add_object(c, path_at, std::move(mesh), object, path);
     }
 
     // The scene material for an OBJ material: `material` if the mesh line names one, else the
     // scene material of the same name, else one made from its .mtl (or the default grey).
-    int resolve_material(Cursor& c, const ObjMaterialInfo& info, int material) {
+    int resolve_material(Cursor& c, std::size_t path_at, const ObjMaterialInfo& info, int material) {
         if (material >= 0) return material;
         if (info.name.empty()) return default_material();
         auto it = material_index_.find(info.name);
@@ -459,7 +471,7 @@ private:
             Texture t;
             t.name = info.name + ".map_Kd";
             t.path = info.diffuse_texture;
-            t.image = image(c, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
+            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
             t.mipmap = mipmap(t.image, t.sampler);
             m.texture = int(scene_.textures.size());
             scene_.textures.push_back(std::move(t));
@@ -479,11 +491,13 @@ private:
         int normals_given = 0;
         int last_with_normal = 0, last_with_color = 0;  // how many vertices there were at the last 'n', 'c'
         int colors_given = 0;
+        std::array<std::size_t, 4> vertex_at{}, normal_at{}, color_at{};  // the 'v', 'n', 'c' of each vertex (0: none)
         while (!c.done()) {
             const std::string key = c.word("a " + what + " option");
             if (key == "v") {
                 if (int(mesh.vertices.size()) == corners) c.fail(what + " has more than " + std::to_string(corners) + " vertices");
                 Vertex v;
+                vertex_at[mesh.vertices.size()] = c.mark();
                 v.position = c.float_vec3("the vertex position");
                 v.uv = {c.number("the vertex u"), c.number("the vertex v")};
                 mesh.vertices.push_back(v);
@@ -492,12 +506,14 @@ private:
                 if (key == "n") {
                     if (last_with_normal == int(mesh.vertices.size())) c.fail("a second normal 'n' for one vertex");
                     last_with_normal = int(mesh.vertices.size());
+                    normal_at[mesh.vertices.size() - 1] = c.mark();
                     mesh.vertices.back().normal = c.float_vec3("the vertex normal");
                     any_normal = true, ++normals_given;
                 }
                 else {
                     if (last_with_color == int(mesh.vertices.size())) c.fail("a second colour 'c' for one vertex");
                     last_with_color = int(mesh.vertices.size());
+                    color_at[mesh.vertices.size() - 1] = c.mark();
                     mesh.vertices.back().color = c.color("the vertex colour");
                     mesh.has_colors = true, ++colors_given;
                 }
@@ -508,12 +524,18 @@ private:
         if (int(mesh.vertices.size()) != corners)
             c.fail(what + " needs " + std::to_string(corners) + " vertices 'v x y z u v', found " + std::to_string(mesh.vertices.size()));
         // Normals and colours on every vertex or on none (normals are then computed, colours
-        // white): a vertex left out would silently keep a default.
+        // white): a vertex left out would silently keep a default. Reported at the first vertex
+        // without one.
+        const auto first_without = [&](const std::array<std::size_t, 4>& given) {
+            for (int i = 0; i < corners; ++i)
+                if (given[std::size_t(i)] == 0) return vertex_at[std::size_t(i)];
+            return c.mark();
+        };
         if (any_normal && normals_given != corners)
-            c.fail(what + " has a normal 'n' on " + std::to_string(normals_given) + " of its " + std::to_string(corners) +
+            c.fail_at(first_without(normal_at), what + " has a normal 'n' on " + std::to_string(normals_given) + " of its " + std::to_string(corners) +
                    " vertices: give one after every vertex, or none to have them computed");
         if (mesh.has_colors && colors_given != corners)
-            c.fail(what + " has a colour 'c' on " + std::to_string(colors_given) + " of its " + std::to_string(corners) +
+            c.fail_at(first_without(color_at), what + " has a colour 'c' on " + std::to_string(colors_given) + " of its " + std::to_string(corners) +
                    " vertices: give one after every vertex, or none");
         mesh.triangles.push_back({0, 1, 2});
         if (corners == 4) mesh.triangles.push_back({0, 2, 3});
@@ -521,14 +543,15 @@ private:
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         mesh.has_normals = any_normal;
         if (!any_normal) fill_smooth_normals(mesh);
-        add_object(c, std::move(mesh), object, what);
+        add_object(c, c.mark(), std::move(mesh), object, what);
     }
 
-    void add_object(Cursor& c, Mesh mesh, Object object, const std::string& what) {
+    // `at`: the token errors are reported at (a mesh's file name; a polygon's last word).
+    void add_object(Cursor& c, std::size_t at, Mesh mesh, Object object, const std::string& what) {
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
             if (m.texture >= 0 && !mesh.has_uv)
-                c.fail(what + " has faces without texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
+                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
                        scene_.textures[std::size_t(m.texture)].name + "'");
         }
         object.mesh = int(scene_.meshes.size());
