@@ -634,6 +634,9 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
                                         "v 1 1 0 4 4 v -1 1 0 0 4 rotate -75 1 0 0 rotate 30 0 0 1 scale 2\n");
     RunResult r = run_texr("explain " + dir + "/tilted.txt 56 8 --span affine16");
     CHECK(r.exit_code == 0);
+    // Step 3 names the span mode that ran (it named the incremental walk under every mode).
+    CHECK(r.output.find("The span walk (--span affine16) divides at the ends of sub-spans of 16 pixels") != std::string::npos);
+    CHECK(r.output.find("--span incremental") == std::string::npos);
     const std::size_t at = r.output.find("the lookup below reads them, with du/dx = ");
     REQUIRE(at != std::string::npos);
     double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0, lambda = 0;
@@ -667,6 +670,9 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     // The exact mode reads u'/q, v'/q: no such line.
     r = run_texr("explain " + dir + "/tilted.txt 56 8 --span exact");
     CHECK(r.output.find("the lookup below reads them") == std::string::npos);
+    CHECK(r.output.find("The span walk (--span exact) divides u' and v' by q at every pixel") != std::string::npos);
+    r = run_texr("explain " + dir + "/tilted.txt 56 8");
+    CHECK(r.output.find("The span walk (--span incremental, the default) steps u', v' and q") != std::string::npos);
 }
 
 TEST_CASE("more command-line and scene mistakes: empty -o, padded --size, a folder, a comment ending in a backslash") {

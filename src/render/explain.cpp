@@ -145,6 +145,29 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     return out + "    = " + rgb(c) + "\n";
 }
 
+// How the span walk of `mode` gets u and v along a row (explain's step 3), as lines of text.
+std::string span_mode_words(SpanMode mode) {
+    switch (mode) {
+        case SpanMode::exact: return "   The span walk (--span exact) divides u' and v' by q at every pixel.\n";
+        case SpanMode::incremental:
+            return "   The span walk (--span incremental, the default) steps u', v' and q by their constant\n"
+                   "   d/dx along each row, and divides at every pixel.\n";
+        case SpanMode::affine8:
+        case SpanMode::affine16:
+        case SpanMode::affine32:
+            return std::string("   The span walk (--span ") + span_mode_name(mode) + ") divides at the ends of sub-spans of " +
+                   (mode == SpanMode::affine8 ? "8" : mode == SpanMode::affine16 ? "16" : "32") +
+                   " pixels,\n   and interpolates u and v linearly between them.\n";
+        case SpanMode::affine:
+            return "   The span walk (--span affine) does not divide: it interpolates u and v linearly in screen\n"
+                   "   space, without perspective (the wrong answer, for contrast).\n";
+        case SpanMode::adaptive:
+            return "   The span walk (--span adaptive) divides at the ends of sub-spans as long as the error bound\n"
+                   "   allows, and interpolates u and v linearly between them (or steps them as incremental does).\n";
+    }
+    return "";
+}
+
 }  // namespace
 
 std::string describe(const PixelExplanation& e, const Scene& scene) {
@@ -179,8 +202,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
 
     const double u_prime = e.h.u_prime.at(x, y), v_prime = e.h.v_prime.at(x, y), q = e.h.q.at(x, y);
     const double exact_u = u_prime / q, exact_v = v_prime / q;
-    out += "\n3. At the pixel centre (from the plane equations; the incremental span walk steps them by\n"
-           "   their constant d/dx along each row):\n";
+    out += "\n3. At the pixel centre, from the plane equations:\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
     if (e.uv_shift != glm::dvec2(0.0))
@@ -188,6 +210,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                       "    the wrap mode, to keep their precision; the texture reads the same. In the scene's\n"
                       "    coordinates u = %.10g, v = %.10g)\n",
                       e.uv_shift.x, e.uv_shift.y, exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
+    out += span_mode_words(e.span_mode);
     const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
     out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
     out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", exact_d.dudx, exact_d.dvdx, exact_d.dudy,
