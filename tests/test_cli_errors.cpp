@@ -818,6 +818,15 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
     std::getline(csv, header);
     for (const char* column : {"scene", "width", "height", "threads", "filter", "mode"}) CHECK(header.find(column) != std::string::npos);
     CHECK(run_texr("bench --size 100000x100000 --out " + dir).exit_code == 2);
+    // --size wins over --quick's 256x192 before it or after it (it lost when given first).
+    for (const std::string order : {"--size 96x64 --quick", "--quick --size 96x64"}) {
+        CAPTURE(order);
+        REQUIRE(run_texr("bench spans " + order + " --out " + dir).exit_code == 0);
+        std::ifstream rows(dir + "/spans.csv");
+        std::getline(rows, line);  // the header
+        std::getline(rows, line);
+        CHECK(line.rfind("plane,96,64,", 0) == 0);
+    }
 }
 
 TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missing coordinates, quads with a bad index") {

@@ -11,11 +11,12 @@ namespace texr {
 
 
 const char* bench_help =
-    "usage: texr bench [NAME] [options]\n"
+    "usage: texr bench [NAME...] [options]\n"
     "\n"
-    "Benchmarks; without NAME runs all of them. Results go to out/bench/ (CSV, a Markdown\n"
-    "table and an SVG plot per benchmark, and index.md). The issues' targets that the run\n"
-    "measures are checked against its numbers: printed, and written to targets.md.\n"
+    "Benchmarks: the ones named, in that order, or all of them. Results go to out/bench/\n"
+    "(CSV, a Markdown table and an SVG plot per benchmark, and index.md; filters also\n"
+    "writes each filter's frame and the ground truth as PNGs). The issues' targets that\n"
+    "the run measures are checked against its numbers: printed, and written to targets.md.\n"
     "\n"
     "benchmarks:\n"
     "  filters     every texture filter on a receding plane and a grazing-angle square:\n"
@@ -34,13 +35,14 @@ const char* bench_help =
     "  --repeat N      timed frames per measurement; the median is reported (default 7)\n"
     "  --spp N         ground truth: N x N samples per pixel, 1..64 (default 16)\n"
     "  --threads N     worker threads for the timed frames, 1..256 (default 1; scale:\n"
-    "                  all cores)\n"
+    "                  all cores; threads always measures 1, 2 and every core)\n"
     "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
     "                  (default: this build's source models/)\n"
     "  --out DIR       output folder (default out/bench), made if missing and checked\n"
     "                  before any benchmark runs\n"
     "  --quick         a smoke test: 1 timed frame, 4x4 ground truth, 256x192, and\n"
-    "                  scale at its smallest sizes\n"
+    "                  scale at its smallest sizes (--size, --repeat or --spp, given\n"
+    "                  anywhere, win over these)\n"
     "\n"
     "scale uses its own frame sizes (it varies them); --size applies to the others.\n";
 
@@ -66,6 +68,7 @@ int run_bench(const std::vector<std::string>& args) {
     using namespace bench;
     BenchOptions o;
     std::vector<std::string> names;
+    bool size_given = false, repeat_given = false, spp_given = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> const std::string& {
@@ -75,16 +78,22 @@ int run_bench(const std::vector<std::string>& args) {
         if (a == "--size") {
             const std::string error = parse_frame_size(value(), o.width, o.height);
             if (!error.empty()) throw std::invalid_argument(error);
-        } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat");
+            size_given = true;
+        } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat"), repeat_given = true;
         else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
-        else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64);
+        else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64), spp_given = true;
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
-        else if (a == "--quick") o.repeat = 1, o.spp = 4, o.width = 256, o.height = 192, o.quick = true;
+        else if (a == "--quick") o.quick = true;
         else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") {
             if (std::find(names.begin(), names.end(), a) == names.end()) names.push_back(a);  // each runs once
         }
         else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
+    }
+    if (o.quick) {  // the smoke test's settings, where the command line does not give its own
+        if (!repeat_given) o.repeat = 1;
+        if (!spp_given) o.spp = 4;
+        if (!size_given) o.width = 256, o.height = 192;
     }
     if (names.empty()) names = {"filters", "spans", "threads", "scale"};
     make_folders(o.out);

@@ -1,4 +1,5 @@
-// texr command line: texr render SCENE [-o out/NAME.png|.ppm] [--size WxH] [--repeat N] [--stats]
+// texr command line: texr render SCENE [options], texr explain SCENE X Y [options] and
+// texr bench [NAME...] [options] (src/bench/bench.cpp); each command's --help lists its options.
 // Exit codes: 0 success, 1 bad input or failed output (one message on stderr), 2 usage error.
 #include <algorithm>
 #include <cctype>
@@ -67,8 +68,9 @@ const char* render_help =
     "                      (default 1)\n"
     "  --threads N         worker threads, 1..256 (default: one per core); the frame\n"
     "                      is the same bytes for every N\n"
-    "  --spp N             texture ground truth, 1..64: N x N samples per pixel, each\n"
+    "  --spp N             texture ground truth, 2..64: N x N samples per pixel, each\n"
     "                      a bilinear lookup at its exact (u, v), box-filtered\n"
+    "                      (default 1: one lookup with the texture's own filter)\n"
     "  --span MODE         how (u, v) are computed along spans: exact, incremental\n"
     "                      (default), affine8, affine16, affine32, affine (no\n"
     "                      perspective: wrong, for contrast) or adaptive\n"
