@@ -195,7 +195,13 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
                  {"P6\n3 0\n255\n", "its header gives a size of 3x0"},
                  {"P6\n4294967296 4294967296\n255\n", "its header gives a size of 4294967296x4294967296"},
                  {"P5\n2 2\n65535\n", "a 16-bit PPM/PGM (largest value 65535); texr reads 8-bit ones"},
-                 {"P6\r# c\r2 2\r255\r", "the file is cut short (its header asks for 12 bytes of texels, it holds 9)"}}) {
+                 {"P6\r# c\r2 2\r255\r", "the file is cut short (its header asks for 12 bytes of texels, it holds 9)"},
+                 // A header that ends before its largest value: stb_image then left the texels
+                 // unread, and the frame showed whatever memory held (valgrind: uninitialised).
+                 {"P6\n2 2\n", "its PPM/PGM header is cut short or damaged (no largest value)"},
+                 {"P6\n2 2\n#", "its PPM/PGM header is cut short or damaged (no largest value)"},  // the file ends in the comment
+                 {"P5 # no numbers at all\n#", "its PPM/PGM header is cut short or damaged (no width)"},
+                 {"P6\n2 2 0\n", "its PPM/PGM header gives a largest value of 0"}}) {
             write_text(dir + "/bad.ppm", header + std::string(9, 'x'));
             write_text(dir + "/scene.txt", "texture t file bad.ppm\n" + good_scene);
             const RunResult bad = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
@@ -203,6 +209,16 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
             CHECK(bad.exit_code == 1);
             CHECK(bad.output.find("bad.ppm: not a readable image: " + message) != std::string::npos);
         }
+    }
+    {  // A file of 2 GiB or more (stb_image takes an int length) is refused by its size, before
+       // it is read: a sparse file of 3 GiB, which reading would have taken 10 s and 2 GB.
+        const std::string dir = scratch_folder("huge-image");
+        REQUIRE(std::system(("truncate -s 3G " + dir + "/huge.png").c_str()) == 0);
+        write_text(dir + "/scene.txt", "texture t file huge.png\n" + good_scene);
+        const RunResult huge = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(huge.exit_code == 1);
+        CHECK(huge.output.find("huge.png: not a readable image: it holds 2 GiB or more, more than stb_image reads") != std::string::npos);
+        std::system(("rm -f " + dir + "/huge.png").c_str());
     }
     const RunResult r = run_texr("render does-not-exist.scene -o nowhere.png");
     CHECK(r.exit_code == 1);

@@ -6,9 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <limits>
+#include <memory>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "texr/core/error.h"
 
@@ -77,25 +82,30 @@ std::string unreadable(const char* reason) {
 }
 
 // stb_image misreads some binary PPM/PGM (P6/P5) files without a word: one that ends early
-// (the rest filled with whatever it has; the header says how long the file must be), a
-// 16-bit one (read as 8-bit samples), a size of 0. Returns the message for such a file, or "".
+// (the rest filled with whatever it has; the header says how long the file must be), one
+// whose header ends before its largest value (its texels are then never read: the image
+// holds whatever memory held), a 16-bit one (read as 8-bit samples), a size of 0. Returns the
+// message for such a file, or "".
 std::string short_pnm(const std::vector<unsigned char>& file) {
     if (file.size() < 2 || file[0] != 'P' || (file[1] != '5' && file[1] != '6')) return "";
     std::size_t at = 2;
     const auto get = [&]() -> int { return at < file.size() ? file[at++] : EOF; };
     long long values[3] = {0, 0, 0};  // width, height, largest value
-    for (long long& value : values) {
+    const char* const names[3] = {"width", "height", "largest value"};
+    for (int k = 0; k < 3; ++k) {
         int ch = get();
         while (ch == '#' || std::isspace(ch)) {  // whitespace and comments before a number
             if (ch == '#')
                 while (ch != '\n' && ch != '\r' && ch != EOF) ch = get();
             ch = get();
         }
-        if (!std::isdigit(ch)) return "";  // stb_image will say what is wrong
-        for (; std::isdigit(ch) && value < (1LL << 40); ch = get()) value = value * 10 + (ch - '0');
+        if (!std::isdigit(ch))
+            return std::string("not a readable image: its PPM/PGM header is cut short or damaged (no ") + names[k] + ")";
+        for (; std::isdigit(ch) && values[k] < (1LL << 40); ch = get()) values[k] = values[k] * 10 + (ch - '0');
     }
     // (stb_image would read 16-bit samples as 8-bit ones, and a side of 0 as an empty image)
     if (values[2] > 255) return "not a readable image: a 16-bit PPM/PGM (largest value " + std::to_string(values[2]) + "); texr reads 8-bit ones";
+    if (values[2] == 0) return "not a readable image: its PPM/PGM header gives a largest value of 0";
     if (values[0] == 0 || values[1] == 0 || values[0] > (1 << 24) || values[1] > (1 << 24))
         return "not a readable image: its header gives a size of " + std::to_string(values[0]) + "x" + std::to_string(values[1]);
     const long long needed = values[0] * values[1] * (file[1] == '6' ? 3 : 1);
@@ -105,44 +115,64 @@ std::string short_pnm(const std::vector<unsigned char>& file) {
            std::to_string(have) + ")";
 }
 
-// The whole file, read once (a pipe can be read only once; stb_image then decodes from memory).
+// The whole file, read once (a pipe can be read only once; stb_image then decodes from
+// memory). stb_image takes the length as an int: a file of 2 GiB or more is refused, by its
+// size before anything is read when it has one.
 std::vector<unsigned char> file_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "cannot open image file");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(path, 0, "cannot open image file");
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    const auto too_large = [&] { return InputError(path, 0, "not a readable image: it holds 2 GiB or more, more than stb_image reads"); };
+    constexpr std::size_t limit = std::size_t(std::numeric_limits<int>::max());
     std::vector<unsigned char> bytes;
-    char chunk[1 << 16];
-    while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
-        bytes.insert(bytes.end(), chunk, chunk + in.gcount());
-        // (stb_image takes the length as an int)
-        if (bytes.size() > std::size_t(std::numeric_limits<int>::max()))
-            throw InputError(path, 0, "not a readable image: the file is larger than 2 GiB");
+    struct stat info {};
+    if (::fstat(fd, &info) == 0 && S_ISREG(info.st_mode)) {
+        if (std::uint64_t(info.st_size) > limit) throw too_large();
+        bytes.reserve(std::size_t(info.st_size));
     }
-    if (in.bad()) throw InputError(path, 0, "cannot read image file");
-    return bytes;
+    unsigned char chunk[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, chunk, sizeof chunk);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw InputError(path, 0, std::string("cannot read image file: ") + std::strerror(errno));
+        if (n == 0) return bytes;
+        if (bytes.size() + std::size_t(n) > limit) throw too_large();  // a pipe (a file that grew)
+        bytes.insert(bytes.end(), chunk, chunk + n);
+    }
+}
+
+// What stb_image decoded (RGBA rows, top row first), freed by stbi_image_free.
+struct Decoded {
+    std::unique_ptr<void, void (*)(void*)> data{nullptr, stbi_image_free};
+    int width = 0, height = 0;
+    bool hdr = false;
+};
+
+// The file's bytes live only while it is decoded (not while the rows are flipped).
+Decoded decode(const std::string& path) {
+    const std::vector<unsigned char> file = file_bytes(path);
+    if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
+    const int length = int(file.size());
+    Decoded d;
+    int channels = 0;
+    d.hdr = stbi_is_hdr_from_memory(file.data(), length) != 0;
+    d.data.reset(d.hdr ? static_cast<void*>(stbi_loadf_from_memory(file.data(), length, &d.width, &d.height, &channels, 4))
+                       : static_cast<void*>(stbi_load_from_memory(file.data(), length, &d.width, &d.height, &channels, 4)));
+    if (!d.data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
+    if (d.width <= 0 || d.height <= 0) throw InputError(path, 0, "not a readable image: it has no texels");
+    return d;
 }
 
 }  // namespace
 
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
-    const std::vector<unsigned char> file = file_bytes(path);
-    if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
-    const int length = int(file.size());
-    int width = 0, height = 0, channels = 0;
-    if (stbi_is_hdr_from_memory(file.data(), length)) {
-        float* data = stbi_loadf_from_memory(file.data(), length, &width, &height, &channels, 4);
-        if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
-        if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
-        Image image = Image::hdr(width, height, flipped_rows(data, width, height));
-        stbi_image_free(data);
-        return image;
-    }
-    unsigned char* data = stbi_load_from_memory(file.data(), length, &width, &height, &channels, 4);
-    if (!data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
-    if (width <= 0 || height <= 0) stbi_image_free(data), throw InputError(path, 0, "not a readable image: it has no texels");
-    Image image = Image::ldr(width, height, space, flipped_rows(data, width, height));
-    stbi_image_free(data);
-    return image;
+    const Decoded d = decode(path);
+    if (d.hdr) return Image::hdr(d.width, d.height, flipped_rows(static_cast<const float*>(d.data.get()), d.width, d.height));
+    return Image::ldr(d.width, d.height, space, flipped_rows(static_cast<const unsigned char*>(d.data.get()), d.width, d.height));
 }
 
 }  // namespace texr
