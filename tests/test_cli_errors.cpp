@@ -108,11 +108,14 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("continued-eye", "camera eye 0 0 3 \\\n  target 0 0 3 \\\n  fov 40\n" + objects,
                    "scene.txt:2: camera eye and target must differ");
     expect_failure("continued-up", "camera up 0 0 1 \\\n  fov 40 \\\n  eye 0 0 3 \\\n  near 1\n" + objects,
-                   "scene.txt:3: camera up must not be parallel to the view direction");
+                   "scene.txt:1: camera up must not be parallel to the view direction");  // at up, which the message names
     expect_failure("continued-file", good_scene + "texture t \\\n  file nope.png \\\n  filter nearest\n",
                    "scene.txt:6: texr-test-continued-file/nope.png: cannot open image file");
     expect_failure("continued-mesh", good_scene + "mesh \\\n  nope.obj \\\n  cull back\n",
                    "scene.txt:6: texr-test-continued-mesh/nope.obj: cannot open OBJ file");
+    expect_failure("continued-near", "camera near 0 \\\n  fov 40 \\\n  far 50\n" + objects, "scene.txt:1: camera needs 0 < near < far");
+    expect_failure("continued-up-last", "camera eye 0 0 3 \\\n  fov 40 \\\n  up 0 0 1\n" + objects,
+                   "scene.txt:3: camera up must not be parallel to the view direction");
     expect_failure("continued-normals", good_scene + quad + " n 0 0 1 \\\n  v -1 1 0 0 1 n 0 0 1\n",
                    "scene.txt:6: quad has a normal 'n' on 2 of its 4 vertices");
     expect_failure("continued-colours", good_scene + "quad v -1 -1 0 0 0 c 1 0 0 \\\n  v 1 -1 0 1 0 c 1 0 0 \\\n  v 1 1 0 1 1 \\\n  v -1 1 0 0 1 c 1 0 0\n",
@@ -1002,6 +1005,37 @@ TEST_CASE("a folder or a device named as a mesh, texture, .mtl or scene is refus
     const std::string piped = "cat " + dir + "/scene.txt | " + TEXR_BINARY + " render /dev/stdin -o " + dir + "/piped.png > /dev/null 2>&1";
     CHECK(std::system(piped.c_str()) == 0);
     CHECK(file_exists(dir + "/piped.png"));
+}
+
+TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's line, a textured material's at its own") {
+    const std::string dir = scratch_folder("continued-mesh-errors");
+    write_text(dir + "/plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");  // no vt
+    write_text(dir + "/lib.obj", "mtllib lib.mtl\nusemtl painted\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+    write_text(dir + "/lib.mtl", "newmtl painted\nKd 1 1 1\nmap_Kd gone.png\n");
+    write_text(dir + "/lib-plain.obj", "mtllib lib2.mtl\nusemtl tex\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text(dir + "/lib2.mtl", "newmtl tex\nKd 1 1 1\nmap_Kd " + source_path("models/textures/checker.png") + "\n");
+    const std::string head = "size 16 16\ntexture t file " + source_path("models/textures/checker.png") + "\nmaterial tm texture t\n";
+    struct Case {
+        std::string mesh, message;
+    };
+    for (const Case& k : {Case{"mesh \\\n  lib.obj \\\n  cull back\n", "scene.txt:5: OBJ material 'painted' (map_Kd in its .mtl): " + dir + "/gone.png: cannot open image file"},
+                          Case{"mesh \\\n  plain.obj \\\n  cull back \\\n  material tm\n", "scene.txt:7: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
+                          Case{"mesh plain.obj \\\n  material tm \\\n  cull back\n", "scene.txt:5: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
+                          Case{"mesh \\\n  lib-plain.obj \\\n  cull back\n", "scene.txt:5: " + dir + "/lib-plain.obj has faces without texture coordinates (vt), but its material 'tex'"}}) {
+        CAPTURE(k.mesh);
+        write_text(dir + "/scene.txt", head + k.mesh);
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(k.message) != std::string::npos);
+    }
+    // A material an OBJ made, defined again below: the message names the line of the mesh's file.
+    write_text(dir + "/shade.obj", "mtllib shade.mtl\nusemtl shade\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text(dir + "/shade.mtl", "newmtl shade\nKd 1 0 0\n");
+    write_text(dir + "/scene.txt", head + "mesh \\\n  shade.obj \\\n  cull back\nmaterial shade color 1 0 0\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CAPTURE(r.output);
+    CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
 }
 
 TEST_CASE("a texture read from a pipe renders as the same file does") {

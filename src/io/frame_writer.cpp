@@ -64,8 +64,8 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
     // stb_image_write's defaults (compression level 8, and each row tried with all five PNG
     // filters) took 160 ms on the 1024x768 benchmark plane, 15 times its render. Level 5 (the
     // lowest stb_image_write honours) with the Sub filter on every row took 60 ms there and
-    // 46 ms instead of 80 on the demo frame; the plane's file came out 6% smaller, the demo's
-    // 0.2% larger (README, "Rendering").
+    // 46 ms instead of 80 on the demo frame; the plane's file came out 6% smaller (bilinear;
+    // 4.5% trilinear), the demo's 0.2% larger (README, "Rendering").
     stbi_write_png_compression_level = 5;
     stbi_write_force_png_filter = 1;
     if (!stbi_write_png_to_func(append_bytes, &out, fb.width, fb.height, 3, rgb.data(), fb.width * 3))

@@ -99,10 +99,12 @@ public:
     [[noreturn]] void fail(const std::string& message) const { fail_at(next_ - 1, message); }
     // At the line of token `token` (from mark()): for a check made after more words were read.
     [[noreturn]] void fail_at(std::size_t token, const std::string& message) const {
-        throw InputError(file_, token < line_.token_lines.size() ? line_.token_lines[token] : line_.number, message);
+        throw InputError(file_, line_of(token), message);
     }
     // The token read last (0: the command's name).
     std::size_t mark() const { return next_ - 1; }
+    // The file line of token `token` (from mark()).
+    int line_of(std::size_t token) const { return token < line_.token_lines.size() ? line_.token_lines[token] : line_.number; }
     bool done() const { return next_ >= line_.tokens.size(); }
     int line_number() const { return line_.number; }
     const std::string& peek() const { return line_.tokens[next_]; }
@@ -235,23 +237,25 @@ private:
     void camera(Cursor& c) {
         Camera& cam = scene_.camera;
         // Where each value was given, for the checks made once all are read (0: not given).
-        std::size_t fov_at = 0, depth_at = 0, view_at = 0, up_at = 0;
+        std::size_t fov_at = 0, near_at = 0, far_at = 0, view_at = 0, up_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a camera option");
             if (key == "eye") cam.eye = c.vec3("eye"), view_at = c.mark();
             else if (key == "target") cam.target = c.vec3("target"), view_at = c.mark();
             else if (key == "up") cam.up = c.vec3("up"), up_at = c.mark();
             else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees"), fov_at = c.mark();
-            else if (key == "near") cam.near = c.number("the near distance"), depth_at = c.mark();
-            else if (key == "far") cam.far = c.number("the far distance"), depth_at = c.mark();
+            else if (key == "near") cam.near = c.number("the near distance"), near_at = c.mark();
+            else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
             else c.fail("unknown camera option '" + key + "' (expected eye, target, up, fov, near or far)");
         }
         if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) c.fail_at(fov_at, "fov must be between 0 and 180 degrees");
-        if (!(cam.near > 0.0 && cam.far > cam.near)) c.fail_at(depth_at, "camera needs 0 < near < far");
+        // (near <= 0 is near's fault alone; far <= near is the later of the two's)
+        if (!(cam.near > 0.0)) c.fail_at(near_at, "camera needs 0 < near < far");
+        if (!(cam.far > cam.near)) c.fail_at(std::max(near_at, far_at), "camera needs 0 < near < far");
         const glm::dvec3 view = cam.target - cam.eye;
         if (glm::length(view) == 0.0) c.fail_at(view_at, "camera eye and target must differ");
-        if (glm::length(glm::cross(view, cam.up)) == 0.0)
-            c.fail_at(std::max(up_at, view_at), "camera up must not be parallel to the view direction");
+        if (glm::length(glm::cross(view, cam.up)) == 0.0)  // at `up` when it was given (the message names it)
+            c.fail_at(up_at != 0 ? up_at : view_at, "camera up must not be parallel to the view direction");
     }
 
     void texture(Cursor& c) {
@@ -402,8 +406,9 @@ private:
     }
 
     // Object options shared by mesh, triangle and quad. Returns false for an unknown key.
-    bool object_option(Cursor& c, const std::string& key, Object& object, int& material) {
-        if (key == "material") material = material_named(c, c.word("a material name"));
+    // `material_at`: where a `material` option named the material.
+    bool object_option(Cursor& c, const std::string& key, Object& object, int& material, std::size_t& material_at) {
+        if (key == "material") material = material_named(c, c.word("a material name")), material_at = c.mark();
         else if (key == "cull") object.cull_back = choose<bool>(c, "cull mode", {{"back", true}, {"none", false}});
         else if (key == "translate") object.transform = glm::translate(glm::dmat4(1.0), c.vec3("translate")) * object.transform;
         else if (key == "rotate") {
@@ -425,9 +430,10 @@ private:
         const std::size_t path_at = c.mark();  // OBJ, .mtl and map_Kd errors are reported at its line
         Object object;
         int material = -1;
+        std::size_t material_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a mesh option");
-            if (!object_option(c, key, object, material))
+            if (!object_option(c, key, object, material, material_at))
                 c.fail("unknown mesh option '" + key + "' (expected material, cull, translate, rotate or scale)");
         }
         // Each OBJ material is the scene material of the same name, else made from its .mtl.
@@ -451,7 +457,7 @@ private:
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
-        add_object(c, path_at, std::move(mesh), object, path);
+        add_object(c, material >= 0 ? material_at : path_at, std::move(mesh), object, path);
     }
 
     // The scene material for an OBJ material: `material` if the mesh line names one, else the
@@ -466,7 +472,7 @@ private:
         // .mtl Kd, taken as linear reflectance (read_obj_lines has checked its numbers); a
         // name no .mtl describes: the default grey.
         m.color = info.described ? info.diffuse : default_color;
-        material_from_obj_[m.name] = c.line_number();
+        material_from_obj_[m.name] = c.line_of(path_at);
         if (!info.diffuse_texture.empty()) {
             Texture t;
             t.name = info.name + ".map_Kd";
@@ -485,6 +491,7 @@ private:
         const std::string what = corners == 3 ? "triangle" : "quad";
         Object object;
         int material = -1;
+        std::size_t material_at = 0;
         Mesh mesh;
         mesh.has_uv = true;
         bool any_normal = false;
@@ -517,7 +524,7 @@ private:
                     mesh.vertices.back().color = c.color("the vertex colour");
                     mesh.has_colors = true, ++colors_given;
                 }
-            } else if (!object_option(c, key, object, material)) {
+            } else if (!object_option(c, key, object, material, material_at)) {
                 c.fail("unknown " + what + " option '" + key + "' (expected v, n, c, material, cull, translate, rotate or scale)");
             }
         }
@@ -546,7 +553,8 @@ private:
         add_object(c, c.mark(), std::move(mesh), object, what);
     }
 
-    // `at`: the token errors are reported at (a mesh's file name; a polygon's last word).
+    // `at`: the token errors are reported at (a mesh's `material` option, or else its file name;
+    // a polygon's last word).
     void add_object(Cursor& c, std::size_t at, Mesh mesh, Object object, const std::string& what) {
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
@@ -578,7 +586,7 @@ private:
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
     std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
-    std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the mesh line
+    std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the line of the mesh's file name
     std::map<std::string, std::shared_ptr<const Image>> images_;
     using MipKey = std::tuple<const Image*, bool, Wrap, Wrap, std::array<float, 4>>;
     std::map<MipKey, std::shared_ptr<MipMap>> mipmaps_;
