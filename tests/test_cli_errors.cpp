@@ -846,6 +846,14 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
         std::getline(rows, line);
         CHECK(line.rfind("plane,96,64,", 0) == 0);
     }
+    // And --spp: the filters table names the ground truth it scored against.
+    for (const std::string order : {"--spp 2 --quick", "--quick --spp 2"}) {
+        CAPTURE(order);
+        REQUIRE(run_texr("bench filters " + order + " --size 64x48 --out " + dir).exit_code == 0);
+        std::ifstream table(dir + "/filters.md");
+        const std::string text((std::istreambuf_iterator<char>(table)), std::istreambuf_iterator<char>());
+        CHECK(text.find("against 2x2 supersampling") != std::string::npos);
+    }
 }
 
 TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missing coordinates, quads with a bad index") {
