@@ -11,11 +11,13 @@
 #include <stb_image_write.h>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
+#include "texr/texture/image.h"
 
 using namespace texr::testing;
 
@@ -1044,6 +1046,35 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
     CAPTURE(r.output);
     CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
+}
+
+TEST_CASE("a Radiance .hdr with run-length rows is read; one cut short inside its rows is refused, not read for ever") {
+    // 8x4 texels, each channel of each row one run of 8 (count 128 + 8, then the value): RGBE
+    // (128, 64, 32, 129) is 2^(129 - 128) x (128, 64, 32) / 256 = (1, 0.5, 0.25).
+    const std::string dir = scratch_folder("hdr-rle");
+    std::string rows;
+    for (int row = 0; row < 4; ++row) {
+        rows += std::string{2, 2, 0, 8};
+        for (const int value : {128, 64, 32, 129}) rows += std::string{char(0x88), char(value)};
+    }
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n";
+    std::ofstream(dir + "/whole.hdr", std::ios::binary) << header + rows;
+    const texr::Image image = texr::load_image(dir + "/whole.hdr", texr::ColorSpace::linear);
+    REQUIRE(image.width() == 8);
+    REQUIRE(image.height() == 4);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 8; ++i) CHECK(image.texel(i, j) == texr::Color4(1.0f, 0.5f, 0.25f, 1.0f));
+    // Cut inside its third row: stb_image read the end of the file as runs of 0 texels, and
+    // looped for ever (`timeout` turns that into a failure here).
+    std::ofstream(dir + "/cut.hdr", std::ios::binary) << header + rows.substr(0, 12 + 12 + 7);
+    write_text(dir + "/scene.txt", "texture t file cut.hdr\n" + good_scene);
+    const std::string command = "timeout 20 " + std::string(TEXR_BINARY) + " render " + dir + "/scene.txt -o " + dir + "/out.png 2> " + dir + "/err.txt";
+    CHECK(WEXITSTATUS(std::system(command.c_str())) == 1);
+    std::ifstream err(dir + "/err.txt");
+    const std::string message((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+    CHECK(message.find("scene.txt:1: " + dir + "/cut.hdr: not a readable image: its run-length data is cut short or damaged (row 3 of 4)") !=
+          std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
 }
 
 TEST_CASE("a texture read from a pipe renders as the same file does") {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -115,6 +116,59 @@ std::string short_pnm(const std::vector<unsigned char>& file) {
            std::to_string(have) + ")";
 }
 
+// stb_image (2.27) loops for ever on a Radiance file whose run-length rows hold a count of 0,
+// as the end of the file reads there: a file cut short inside its rows hangs it. The rows are
+// walked here first, as it reads them (header lines of at most 1023 characters; rows of 8 to
+// 32767 texels run-length coded per channel, until a row that is not). Returns the message
+// for such a file, or "" (stb_image then reads it, or says what else is wrong).
+std::string hdr_runs_cut(const std::vector<unsigned char>& file) {
+    std::size_t at = 0;
+    const auto at_end = [&] { return at >= file.size(); };
+    const auto get = [&]() -> int { return at < file.size() ? file[at++] : 0; };  // 0 past the end, as stb_image
+    const auto line = [&] {
+        std::string text;
+        char ch = char(get());
+        while (!at_end() && ch != '\n') {
+            text += ch;
+            if (text.size() == 1023) {  // the rest of a long line is skipped
+                while (!at_end() && get() != '\n') {}
+                break;
+            }
+            ch = char(get());
+        }
+        return text;
+    };
+    const std::string magic = line();
+    if (magic != "#?RADIANCE" && magic != "#?RGBE") return "";
+    while (!line().empty()) {}  // header lines, to the empty one
+    const std::string size = line();  // "-Y height +X width"
+    if (size.compare(0, 3, "-Y ") != 0) return "";
+    char* rest = nullptr;
+    const long height = std::strtol(size.c_str() + 3, &rest, 10);
+    while (*rest == ' ') ++rest;
+    if (std::strncmp(rest, "+X ", 3) != 0) return "";
+    const long width = std::strtol(rest + 3, nullptr, 10);
+    if (width < 8 || width >= 32768 || height <= 0 || height > (1 << 24)) return "";  // read flat, or refused
+    for (long row = 0; row < height; ++row) {
+        const int c1 = get(), c2 = get(), high = get();
+        if (c1 != 2 || c2 != 2 || (high & 0x80) != 0) return "";  // flat from here on: read to the end
+        if (((high << 8) | get()) != width) return "";                // refused by stb_image
+        for (int channel = 0; channel < 4; ++channel)
+            for (long i = 0; i < width;) {
+                int count = get();
+                if (count == 0)
+                    return "not a readable image: its run-length data is cut short or damaged (row " + std::to_string(row + 1) +
+                           " of " + std::to_string(height) + ")";
+                const bool run = count > 128;
+                if (run) count -= 128;
+                if (count > width - i) return "";  // refused by stb_image
+                at = std::min(file.size(), at + (run ? 1 : std::size_t(count)));
+                i += count;
+            }
+    }
+    return "";
+}
+
 // The whole file, read once (a pipe can be read only once; stb_image then decodes from
 // memory). stb_image takes the length as an int: a file of 2 GiB or more is refused, by its
 // size before anything is read when it has one.
@@ -159,6 +213,8 @@ Decoded decode(const std::string& path) {
     Decoded d;
     int channels = 0;
     d.hdr = stbi_is_hdr_from_memory(file.data(), length) != 0;
+    if (d.hdr)
+        if (const std::string cut = hdr_runs_cut(file); !cut.empty()) throw InputError(path, 0, cut);
     d.data.reset(d.hdr ? static_cast<void*>(stbi_loadf_from_memory(file.data(), length, &d.width, &d.height, &channels, 4))
                        : static_cast<void*>(stbi_load_from_memory(file.data(), length, &d.width, &d.height, &channels, 4)));
     if (!d.data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
