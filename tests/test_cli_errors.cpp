@@ -1048,7 +1048,7 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
 }
 
-TEST_CASE("a Radiance .hdr with run-length rows is read; one cut short inside its rows is refused, not read for ever") {
+TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short inside its rows is refused, not read for ever") {
     // 8x4 texels, each channel of each row one run of 8 (count 128 + 8, then the value): RGBE
     // (128, 64, 32, 129) is 2^(129 - 128) x (128, 64, 32) / 256 = (1, 0.5, 0.25).
     const std::string dir = scratch_folder("hdr-rle");
