@@ -1077,6 +1077,43 @@ TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short insid
     CHECK_FALSE(file_exists(dir + "/out.png"));
 }
 
+TEST_CASE("an image that leaves texels undefined is refused: palette indices beyond the palette, data it does not hold") {
+    // stb_image returned such images with exit 0, their texels whatever memory held (valgrind:
+    // uninitialised; two runs, two frames). Small files written by hand (hex), each damaged:
+    // a 4x4 8-bit PNG with a palette of 2 entries indexing entry 200; an 8-bit BMP with 2
+    // palette entries indexing 200 and 255; a 64x64 TGA with 5 bytes of its 12288; a JPEG
+    // frame header with no scan. Then well-formed palette images, which read as before.
+    const std::string dir = scratch_folder("undefined-texels");
+    const auto write_hex = [&](const std::string& name, const std::string& hex) {
+        std::string bytes;
+        for (std::size_t i = 0; i + 1 < hex.size(); i += 2) bytes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+        std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+    };
+    write_hex("pal.png", "89504e470d0a1a0a0000000d49484452000000040000000408030000009e2f6e4c00000006504c5445000000000000a567b9cf0000001049444154789c6360603cf19f019500003fcc0721b514375c0000000049454e44ae426082");
+    write_hex("pal.bmp", "424d4e000000000000003e0000002800000004000000040000000100080000000000100000000000000000000000020000000000000000000000000000000001c8ff0001c8ff0001c8ff0001c8ff");
+    write_hex("short.tga", "0000020000000000000000004000400018001010101010");
+    write_hex("noscan.jpg", "ffd8ffc0000b080008000801011100ffd9");
+    write_hex("pal4.png", "89504e470d0a1a0a0000000d49484452000000040000000404030000005bdf834d0000000c504c5445000102030405060708090a0bdc4c389c0000000174524e5380ad5e5b460000000d49444154789c63605466802100032800910d3b44840000000049454e44ae426082");
+    write_hex("pal.tga", "000101000002001800000000040004000800ff000000ff00000102fa000102fa000102fa000102fa");
+    for (const std::string name : {"pal.png", "pal.bmp", "short.tga", "noscan.jpg"}) {
+        CAPTURE(name);
+        write_text(dir + "/scene.txt", "texture t file " + name + "\n" + good_scene);
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(name + ": not a readable image: it leaves texels undefined") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+    // A 4x4 4-bit PNG whose 4-entry palette covers its indices, and a TGA with a palette.
+    for (const std::string name : {"pal4.png", "pal.tga"}) {
+        CAPTURE(name);
+        write_text(dir + "/scene.txt", "texture t file " + name + "\nmaterial m texture t\n" + good_scene +
+                                           "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+    }
+}
+
 TEST_CASE("a texture read from a pipe renders as the same file does") {
     // A pipe can be read once: the loader read the format through one open and decoded
     // through another, which waited for a second writer for ever (`timeout` turns such a wait

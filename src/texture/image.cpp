@@ -1,8 +1,6 @@
 // Image loading with stb_image; rows are flipped so that row 0 is the bottom (v = 0).
 #include "texr/texture/image.h"
 
-#include <stb_image.h>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -16,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "stb_decode.h"
 #include "texr/core/error.h"
 
 namespace texr {
@@ -198,27 +197,39 @@ std::vector<unsigned char> file_bytes(const std::string& path) {
     }
 }
 
-// What stb_image decoded (RGBA rows, top row first), freed by stbi_image_free.
-struct Decoded {
-    std::unique_ptr<void, void (*)(void*)> data{nullptr, stbi_image_free};
-    int width = 0, height = 0;
-    bool hdr = false;
-};
+// Whether stb_image's reading of the file can leave texels unset when the file is damaged:
+// a palette image may index entries its palette does not hold (PNG, BMP: stb_image keeps the
+// palette in a stack array), and the other decoders may stop short of filling the buffer they
+// allocated (a JPEG component without a scan, a TGA cut short). PNG images without a palette,
+// Radiance HDR and PPM/PGM (checked by short_pnm) fill every texel or fail.
+bool may_leave_texels_unset(const std::vector<unsigned char>& file) {
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (file.size() > 25 && std::memcmp(file.data(), png, 8) == 0 && std::memcmp(file.data() + 12, "IHDR", 4) == 0)
+        return file[25] == 3;  // colour type 3: palette indices
+    if (file.size() >= 2 && file[0] == 'P' && (file[1] == '5' || file[1] == '6')) return false;
+    return !stb_decode::is_hdr(file.data(), int(file.size()));
+}
 
 // The file's bytes live only while it is decoded (not while the rows are flipped).
-Decoded decode(const std::string& path) {
+stb_decode::Pixels decode(const std::string& path) {
     const std::vector<unsigned char> file = file_bytes(path);
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
-    Decoded d;
-    int channels = 0;
-    d.hdr = stbi_is_hdr_from_memory(file.data(), length) != 0;
-    if (d.hdr)
+    if (stb_decode::is_hdr(file.data(), length))
         if (const std::string cut = hdr_runs_cut(file); !cut.empty()) throw InputError(path, 0, cut);
-    d.data.reset(d.hdr ? static_cast<void*>(stbi_loadf_from_memory(file.data(), length, &d.width, &d.height, &channels, 4))
-                       : static_cast<void*>(stbi_load_from_memory(file.data(), length, &d.width, &d.height, &channels, 4)));
-    if (!d.data) throw InputError(path, 0, unreadable(stbi_failure_reason()));
+    stb_decode::Pixels d = stb_decode::decode(file.data(), length, 0x00);
+    if (!d.data) throw InputError(path, 0, unreadable(d.failure.c_str()));
     if (d.width <= 0 || d.height <= 0) throw InputError(path, 0, "not a readable image: it has no texels");
+    if (may_leave_texels_unset(file)) {
+        // Decoded again with every byte it allocates, and the stack below, set to 0xff instead of
+        // 0: texels the file defines come out the same; any other difference is memory the file
+        // left unset (valgrind showed such frames change from run to run).
+        const stb_decode::Pixels again = stb_decode::decode(file.data(), length, 0xff);
+        const std::size_t bytes = std::size_t(d.width) * std::size_t(d.height) * 4 * (d.hdr ? sizeof(float) : 1);
+        if (!again.data || again.width != d.width || again.height != d.height || std::memcmp(d.data.get(), again.data.get(), bytes) != 0)
+            throw InputError(path, 0, "not a readable image: it leaves texels undefined (a palette index beyond its palette, or "
+                                      "image data it does not hold)");
+    }
     return d;
 }
 
@@ -226,7 +237,7 @@ Decoded decode(const std::string& path) {
 
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
-    const Decoded d = decode(path);
+    const stb_decode::Pixels d = decode(path);
     if (d.hdr) return Image::hdr(d.width, d.height, flipped_rows(static_cast<const float*>(d.data.get()), d.width, d.height));
     return Image::ldr(d.width, d.height, space, flipped_rows(static_cast<const unsigned char*>(d.data.get()), d.width, d.height));
 }

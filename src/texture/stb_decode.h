@@ -1,0 +1,24 @@
+// stb_image's decoders, compiled into texr (src/texture/stb_decode.cpp) so that the memory
+// they allocate, and the stack below them, hold a byte texr chooses: image.cpp decodes a file
+// whose format can leave texels unset twice, under two such bytes, and refuses it when the
+// two results differ. Internal to src/texture/image.cpp.
+#pragma once
+#include <memory>
+#include <string>
+
+namespace texr::stb_decode {
+
+// Decoded RGBA rows, top row first: 8-bit, or float for Radiance HDR.
+struct Pixels {
+    std::unique_ptr<void, void (*)(void*)> data{nullptr, nullptr};
+    int width = 0, height = 0;
+    bool hdr = false;
+    std::string failure;  // stb_image's reason when data is null
+};
+
+bool is_hdr(const unsigned char* bytes, int length);
+
+// Decodes with every byte stb_image allocates, and the stack it runs on, first set to `fill`.
+Pixels decode(const unsigned char* bytes, int length, unsigned char fill);
+
+}  // namespace texr::stb_decode
