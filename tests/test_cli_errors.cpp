@@ -1114,6 +1114,24 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
     }
 }
 
+TEST_CASE("faces tinyobjloader splits into fewer triangles keep their usemtl material, or are refused when names differ") {
+    // A six-corner face that repeats its triangle: tinyobjloader makes no triangle of it, where
+    // its corners give 4. The materials used to fall back to tinyobjloader's ids, which lose
+    // names no .mtl describes: the scene's material 'b' became the default grey.
+    const std::string dir = scratch_folder("obj-uneven-faces");
+    const std::string points = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 0.5 0\nv 0 2 0\n";
+    write_text(dir + "/one.obj", points + "usemtl b\nf 1 2 3 1 2 3\nf 1 2 3\n");
+    write_text(dir + "/two.obj", points + "usemtl a\nf 1 2 3 1 2 3\nusemtl b\nf 1 2 3\n");
+    const std::string head = "size 32 24\ncamera eye 1 1 3 target 1 1 0 fov 60\nmaterial a color 1 0 0\nmaterial b color 0 1 0\n";
+    write_text(dir + "/scene.txt", head + "mesh one.obj\n");
+    CHECK(explained_material(dir, 20, 16) == "b");
+    write_text(dir + "/scene.txt", head + "mesh two.obj\n");
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:5: " + dir + "/two.obj: tinyobjloader split the faces into 1 triangles, not the 5 their corners give") !=
+          std::string::npos);
+}
+
 TEST_CASE("a texture read from a pipe renders as the same file does") {
     // A pipe can be read once: the loader read the format through one open and decoded
     // through another, which waited for a second writer for ever (`timeout` turns such a wait

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -312,6 +313,17 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     std::vector<int> usemtl_material(lines.names.size(), -1);  // by name index, resolved on first use
     std::size_t total_triangles = 0;
     for (const tinyobj::shape_t& shape : shapes) total_triangles += shape.mesh.num_face_vertices.size();
+    // tinyobjloader can split a face with repeated or collinear corners into fewer triangles
+    // than k - 2 (or none): the triangles' usemtl names can then be matched to them only when
+    // every face has the same one (its material ids would lose names no .mtl describes).
+    const bool counted = lines.per_triangle.size() == total_triangles;
+    const bool one_name = std::adjacent_find(lines.per_triangle.begin(), lines.per_triangle.end(),
+                                             std::not_equal_to<std::uint32_t>()) == lines.per_triangle.end();
+    if (!counted && (!one_name || lines.per_triangle.empty()))
+        throw InputError(path, 0, "tinyobjloader split the faces into " + std::to_string(total_triangles) + " triangles, not the " +
+                                      std::to_string(lines.per_triangle.size()) +
+                                      " their corners give (a face with repeated or collinear corners?), so which usemtl "
+                                      "material each one has is lost");
 
     Mesh mesh;
     mesh.source = path;
@@ -369,15 +381,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             mesh.has_uv = mesh.has_uv && face_has_uv;
             mesh.has_normals = mesh.has_normals && face_has_normal;
             mesh.triangles.push_back(triangle);
-            if (lines.per_triangle.size() == total_triangles) {
-                const std::uint32_t n = lines.per_triangle[mesh.triangles.size() - 1];
-                if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
-                mesh.triangle_material.push_back(usemtl_material[n]);
-            } else {  // faces we could not count the same way: fall back to tinyobjloader's ids
-                const int id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
-                mesh.triangle_material.push_back(
-                    scene_material(id >= 0 && id < int(obj_materials.size()) ? obj_materials[std::size_t(id)].name : std::string()));
-            }
+            // (not counted alike: every face has the one name, the first)
+            const std::uint32_t n = counted ? lines.per_triangle[mesh.triangles.size() - 1] : lines.per_triangle.front();
+            if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
+            mesh.triangle_material.push_back(usemtl_material[n]);
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
