@@ -1132,6 +1132,26 @@ TEST_CASE("faces tinyobjloader splits into fewer triangles keep their usemtl mat
           std::string::npos);
 }
 
+TEST_CASE("a normal of length 0 (vn 0 0 0, or n 0 0 0) takes the computed normal instead of shading as NaN") {
+    // The triangle (0,0,0), (2,0,0), (0,2,0) winds counter-clockwise seen from +z: its computed
+    // normal is (0, 0, 1). Lit by a light shining along -z: N . L = 1, so the lit colour is the
+    // ambient 0.1 (sRGB; linear 0.01002) + 1. With the zero normals it was N = (-nan, ...) and
+    // the light was lost.
+    const std::string dir = scratch_folder("zero-normals");
+    write_text(dir + "/zero.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nvn 0 0 0\nf 1//1 2//1 3//1\n");
+    const std::string head = "size 32 24\ncamera eye 0.5 0.5 3 target 0.5 0.5 0 fov 60\nlight directional 0 0 -1\nambient 0.1 0.1 0.1\n"
+                             "material m color 1 1 1 lighting lambert\n";
+    for (const std::string object : {"mesh zero.obj material m\n", "triangle material m v 0 0 0 0 0 n 0 0 0 v 2 0 0 1 0 n 0 0 0 v 0 2 0 0 1 n 0 0 0\n"}) {
+        CAPTURE(object);
+        write_text(dir + "/scene.txt", head + object);
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 16 12");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        CHECK(r.output.find("N = (0.00000, 0.00000, 1.00000)") != std::string::npos);
+        CHECK(r.output.find("linear colour (1.01002, 1.01002, 1.01002)") != std::string::npos);
+    }
+}
+
 TEST_CASE("a texture read from a pipe renders as the same file does") {
     // A pipe can be read once: the loader read the format through one open and decoded
     // through another, which waited for a second writer for ever (`timeout` turns such a wait

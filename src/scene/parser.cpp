@@ -457,6 +457,7 @@ private:
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
+        else replace_zero_normals(mesh);
         add_object(c, material >= 0 ? material_at : path_at, std::move(mesh), object, path);
     }
 
@@ -550,6 +551,7 @@ private:
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         mesh.has_normals = any_normal;
         if (!any_normal) fill_smooth_normals(mesh);
+        else replace_zero_normals(mesh);
         add_object(c, c.mark(), std::move(mesh), object, what);
     }
 
@@ -565,6 +567,17 @@ private:
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));
         scene_.objects.push_back(object);
+    }
+
+    // A normal of length 0 (`vn 0 0 0`, which some exporters write for degenerate faces) has no
+    // direction: shading would normalise it to NaN. Such vertices take the computed normal.
+    static void replace_zero_normals(Mesh& mesh) {
+        const auto zero = [](const Vertex& v) { return v.normal == glm::vec3(0.0f); };
+        if (std::none_of(mesh.vertices.begin(), mesh.vertices.end(), zero)) return;
+        Mesh computed = mesh;
+        fill_smooth_normals(computed);
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+            if (zero(mesh.vertices[i])) mesh.vertices[i].normal = computed.vertices[i].normal;
     }
 
     // Area-weighted average of the face normals at each vertex (right-handed winding).
