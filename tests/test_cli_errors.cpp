@@ -1152,6 +1152,40 @@ TEST_CASE("a normal of length 0 (vn 0 0 0, or n 0 0 0) takes the computed normal
     }
 }
 
+TEST_CASE("an uncompressed BMP shorter than its header says is refused, one without its last row's padding is read") {
+    // stb_image_write's BMP of 3 x 2 texels: rows of 9 bytes padded to 12, after a 54-byte
+    // header: 78 bytes. stb_image read a BMP that ends early as if zeros followed (a 64-byte
+    // file claiming 16000 x 16000 took 2 GB and became black).
+    const std::string dir = scratch_folder("bmp-short");
+    const unsigned char rgb[3 * 2 * 3] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30, 40, 50, 60, 70, 80, 90};
+    std::string bmp;
+    stbi_write_bmp_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
+                           &bmp, 3, 2, 3, rgb);
+    REQUIRE(bmp.size() == 78);
+    const std::string quad = "material m texture t\nquad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n";
+    for (const std::size_t cut : {0, 3, 4, 20}) {  // bytes taken off the end: 3 is the last row's padding
+        CAPTURE(cut);
+        std::ofstream(dir + "/t.bmp", std::ios::binary) << bmp.substr(0, bmp.size() - cut);
+        write_text(dir + "/scene.txt", "texture t file t.bmp\n" + quad + good_scene);
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        if (cut <= 3) {
+            CHECK(r.exit_code == 0);
+        } else {
+            CHECK(r.exit_code == 1);
+            CHECK(r.output.find("t.bmp: not a readable image: the file is cut short (its header asks for 75 bytes, it holds " +
+                                std::to_string(78 - cut) + ")") != std::string::npos);
+        }
+    }
+    // The file read whole has the texels written: the top row of the file is v = 1.
+    std::ofstream(dir + "/t.bmp", std::ios::binary) << bmp;
+    const texr::Image image = texr::load_image(dir + "/t.bmp", texr::ColorSpace::linear);
+    REQUIRE(image.width() == 3);
+    REQUIRE(image.height() == 2);
+    CHECK(image.texel(0, 1) == texr::Color4(1.0f, 0.0f, 0.0f, 1.0f));
+    CHECK(image.texel(2, 0) == texr::Color4(70 / 255.0f, 80 / 255.0f, 90 / 255.0f, 1.0f));
+}
+
 TEST_CASE("a texture read from a pipe renders as the same file does") {
     // A pipe can be read once: the loader read the format through one open and decoded
     // through another, which waited for a second writer for ever (`timeout` turns such a wait

@@ -5,6 +5,7 @@
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -168,6 +169,34 @@ std::string hdr_runs_cut(const std::vector<unsigned char>& file) {
     return "";
 }
 
+// stb_image reads an uncompressed BMP that ends early as if zeros followed (a 64-byte file
+// whose header says 16000 x 16000 became a black texture of 1 GB). Returns the message for
+// such a file (shorter than its header's offset to the texels plus its rows, the last row's
+// padding allowed to be missing), or "".
+std::string short_bmp(const std::vector<unsigned char>& file) {
+    if (file.size() < 26 || file[0] != 'B' || file[1] != 'M') return "";
+    const auto u16 = [&](std::size_t at) { return std::uint32_t(file[at]) | std::uint32_t(file[at + 1]) << 8; };
+    const auto u32 = [&](std::size_t at) { return u16(at) | u16(at + 2) << 16; };
+    const std::uint64_t offset = u32(10), header = u32(14);
+    std::int64_t width = 0, height = 0;
+    std::uint32_t bits = 0, compression = 0;
+    if (header == 12) {  // the OS/2 core header
+        width = u16(18), height = u16(20), bits = u16(24);
+    } else if (header >= 40 && file.size() >= 34) {
+        width = std::int32_t(u32(18)), height = std::int32_t(u32(22)), bits = u16(28), compression = u32(30);
+    } else {
+        return "";  // stb_image will say what is wrong
+    }
+    if (compression != 0 && compression != 3) return "";  // (stb_image reads no compressed BMP)
+    if (width <= 0 || height == 0 || bits == 0 || offset < 14 + header) return "";
+    const std::uint64_t row = (std::uint64_t(bits) * std::uint64_t(width) + 31) / 32 * 4;
+    const std::uint64_t last_row = (std::uint64_t(bits) * std::uint64_t(width) + 7) / 8;  // without its padding
+    const std::uint64_t needed = offset + row * std::uint64_t(height < 0 ? -height : height) - (row - last_row);
+    if (file.size() >= needed) return "";
+    return "not a readable image: the file is cut short (its header asks for " + std::to_string(needed) + " bytes, it holds " +
+           std::to_string(file.size()) + ")";
+}
+
 // The whole file, read once (a pipe can be read only once; stb_image then decodes from
 // memory). stb_image takes the length as an int: a file of 2 GiB or more is refused, by its
 // size before anything is read when it has one.
@@ -214,6 +243,7 @@ bool may_leave_texels_unset(const std::vector<unsigned char>& file) {
 stb_decode::Pixels decode(const std::string& path) {
     const std::vector<unsigned char> file = file_bytes(path);
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
+    if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
     if (stb_decode::is_hdr(file.data(), length))
         if (const std::string cut = hdr_runs_cut(file); !cut.empty()) throw InputError(path, 0, cut);
