@@ -144,14 +144,25 @@ std::string hdr_runs_cut(const std::vector<unsigned char>& file) {
     const std::string size = line();  // "-Y height +X width"
     if (size.compare(0, 3, "-Y ") != 0) return "";
     char* rest = nullptr;
-    const long height = std::strtol(size.c_str() + 3, &rest, 10);
+    const int height = int(std::strtol(size.c_str() + 3, &rest, 10));  // an int, as stb_image reads them
     while (*rest == ' ') ++rest;
     if (std::strncmp(rest, "+X ", 3) != 0) return "";
-    const long width = std::strtol(rest + 3, nullptr, 10);
-    if (width < 8 || width >= 32768 || height <= 0 || height > (1 << 24)) return "";  // read flat, or refused
-    for (long row = 0; row < height; ++row) {
+    const int width = int(std::strtol(rest + 3, nullptr, 10));
+    if (width <= 0 || height <= 0 || width > (1 << 24) || height > (1 << 24)) return "";  // refused by stb_image
+    // Texels read flat, 4 bytes each, from byte `from` to the end of the image: a file that ends
+    // before them left stb_image's texel unset (valgrind: uninitialised), so it is refused.
+    const auto flat_cut = [&](std::size_t from, std::uint64_t texels) -> std::string {
+        const std::uint64_t needed = 4 * texels, held = file.size() > from ? file.size() - from : 0;
+        if (held >= needed) return "";
+        return "not a readable image: the file is cut short (its texels need " + std::to_string(needed) + " more bytes, it holds " +
+               std::to_string(held) + ")";
+    };
+    if (width < 8 || width >= 32768) return flat_cut(at, std::uint64_t(width) * std::uint64_t(height));  // no run-length rows
+    for (int row = 0; row < height; ++row) {
+        const std::size_t row_start = at;
         const int c1 = get(), c2 = get(), high = get();
-        if (c1 != 2 || c2 != 2 || (high & 0x80) != 0) return "";  // flat from here on: read to the end
+        if (c1 != 2 || c2 != 2 || (high & 0x80) != 0)  // flat from here on (the end of the file reads so too)
+            return flat_cut(row_start, std::uint64_t(width) * std::uint64_t(height - row));
         if (((high << 8) | get()) != width) return "";                // refused by stb_image
         for (int channel = 0; channel < 4; ++channel)
             for (long i = 0; i < width;) {
@@ -187,14 +198,35 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
     } else {
         return "";  // stb_image will say what is wrong
     }
+    if (header != 12 && header != 40 && header != 56 && header != 108 && header != 124) return "";  // refused by stb_image
     if (compression != 0 && compression != 3) return "";  // (stb_image reads no compressed BMP)
     if (width <= 0 || height == 0 || bits == 0 || offset < 14 + header) return "";
     const std::uint64_t row = (std::uint64_t(bits) * std::uint64_t(width) + 31) / 32 * 4;
     const std::uint64_t last_row = (std::uint64_t(bits) * std::uint64_t(width) + 7) / 8;  // without its padding
-    const std::uint64_t needed = offset + row * std::uint64_t(height < 0 ? -height : height) - (row - last_row);
-    if (file.size() >= needed) return "";
-    return "not a readable image: the file is cut short (its header asks for " + std::to_string(needed) + " bytes, it holds " +
-           std::to_string(file.size()) + ")";
+    const std::uint64_t rows = std::uint64_t(height < 0 ? -height : height);
+    const std::uint64_t needed = offset + row * rows - (row - last_row);
+    if (file.size() < needed)
+        return "not a readable image: the file is cut short (its header asks for " + std::to_string(needed) + " bytes, it holds " +
+               std::to_string(file.size()) + ")";
+    // A palette image: stb_image keeps the palette in a stack array, and an index beyond the
+    // entries it read picks whatever that memory held. (Its count for the OS/2 header is 4
+    // entries short of the file's.)
+    if (bits > 8 || compression != 0) return "";
+    const std::int64_t entries = header == 12 ? (std::int64_t(offset) - 14 - 24) / 3 : (std::int64_t(offset) - 14 - std::int64_t(header)) >> 2;
+    if (entries <= 0 && header == 12)
+        return "not a readable image: stb_image reads no entry of this OS/2 BMP's palette (it counts 4 fewer than the file holds)";
+    if (entries <= 0 || entries > 256 || (bits != 1 && bits != 4 && bits != 8)) return "";  // refused by stb_image
+    if (entries >= (std::int64_t(1) << bits)) return "";
+    for (std::uint64_t r = 0; r < rows; ++r) {
+        const unsigned char* texels = file.data() + offset + r * row;
+        for (std::int64_t x = 0; x < width; ++x) {
+            const int index = bits == 8 ? texels[x] : bits == 4 ? (texels[x / 2] >> (x % 2 == 0 ? 4 : 0)) & 15 : (texels[x / 8] >> (7 - x % 8)) & 1;
+            if (index >= entries)
+                return "not a readable image: palette index " + std::to_string(index) + " is beyond the " + std::to_string(entries) +
+                       " palette entries stb_image reads" + (header == 12 ? " (of an OS/2 BMP it reads 4 fewer than the file holds)" : "");
+        }
+    }
+    return "";
 }
 
 // The whole file, read once (a pipe can be read only once; stb_image then decodes from
