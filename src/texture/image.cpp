@@ -200,7 +200,10 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
     }
     if (header != 12 && header != 40 && header != 56 && header != 108 && header != 124) return "";  // refused by stb_image
     if (compression != 0 && compression != 3) return "";  // (stb_image reads no compressed BMP)
-    if (width <= 0 || height == 0 || bits == 0 || offset < 14 + header) return "";
+    // (stb_image refuses sides beyond 2^24, which also keeps the sizes below from overflowing)
+    if (width <= 0 || height == 0 || width > (1 << 24) || height > (1 << 24) || height < -(1 << 24) || bits == 0 || bits > 32 ||
+        offset < 14 + header)
+        return "";
     const std::uint64_t row = (std::uint64_t(bits) * std::uint64_t(width) + 31) / 32 * 4;
     const std::uint64_t last_row = (std::uint64_t(bits) * std::uint64_t(width) + 7) / 8;  // without its padding
     const std::uint64_t rows = std::uint64_t(height < 0 ? -height : height);
