@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -43,9 +44,11 @@ struct RunResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs the texr binary with the given argument string (already shell-quoted).
-inline RunResult run_texr(const std::string& arguments) {
-    const std::string command = std::string(TEXR_BINARY) + " " + arguments + " 2>&1";
+// Runs the texr binary with the given argument string (already shell-quoted). With
+// timeout_seconds, a run that takes longer is killed (exit code 124): a hang fails the test.
+inline RunResult run_texr(const std::string& arguments, int timeout_seconds = 0) {
+    const std::string limit = timeout_seconds > 0 ? "timeout " + std::to_string(timeout_seconds) + " " : "";
+    const std::string command = limit + std::string(TEXR_BINARY) + " " + arguments + " 2>&1";
     RunResult r{-1, {}};
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return r;
@@ -60,6 +63,12 @@ inline RunResult run_texr(const std::string& arguments) {
 inline void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 inline bool file_exists(const std::string& path) { return bool(std::ifstream(path)); }
+
+// The whole file as bytes ("" if it cannot be read).
+inline std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 inline std::string source_path(const std::string& relative) { return std::string(TEXR_SOURCE_DIR) + "/" + relative; }
 

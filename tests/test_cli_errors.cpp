@@ -11,7 +11,6 @@
 #include <stb_image_write.h>
 
 #include <sys/stat.h>
-#include <sys/wait.h>
 
 #include "helpers.h"
 #include "texr/core/color.h"
@@ -852,9 +851,7 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
     for (const std::string order : {"--spp 2 --quick", "--quick --spp 2"}) {
         CAPTURE(order);
         REQUIRE(run_texr("bench filters " + order + " --size 64x48 --out " + dir).exit_code == 0);
-        std::ifstream table(dir + "/filters.md");
-        const std::string text((std::istreambuf_iterator<char>(table)), std::istreambuf_iterator<char>());
-        CHECK(text.find("against 2x2 supersampling") != std::string::npos);
+        CHECK(read_file(dir + "/filters.md").find("against 2x2 supersampling") != std::string::npos);
     }
 }
 
@@ -1068,11 +1065,9 @@ TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short insid
     // looped for ever (`timeout` turns that into a failure here).
     std::ofstream(dir + "/cut.hdr", std::ios::binary) << header + rows.substr(0, 12 + 12 + 7);
     write_text(dir + "/scene.txt", "texture t file cut.hdr\n" + good_scene);
-    const std::string command = "timeout 20 " + std::string(TEXR_BINARY) + " render " + dir + "/scene.txt -o " + dir + "/out.png 2> " + dir + "/err.txt";
-    CHECK(WEXITSTATUS(std::system(command.c_str())) == 1);
-    std::ifstream err(dir + "/err.txt");
-    const std::string message((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
-    CHECK(message.find("scene.txt:1: " + dir + "/cut.hdr: not a readable image: its run-length data is cut short or damaged (row 3 of 4)") !=
+    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 20);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:1: " + dir + "/cut.hdr: not a readable image: its run-length data is cut short or damaged (row 3 of 4)") !=
           std::string::npos);
     CHECK_FALSE(file_exists(dir + "/out.png"));
 }
@@ -1127,11 +1122,9 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
     for (const auto& [name, message] : more) {
         CAPTURE(name);
         write_text(dir + "/scene.txt", "texture t file " + name + "\n" + good_scene);
-        const std::string command = "timeout 20 " + std::string(TEXR_BINARY) + " render " + dir + "/scene.txt -o " + dir + "/out.png 2> " + dir + "/err.txt";
-        CHECK(WEXITSTATUS(std::system(command.c_str())) == 1);
-        std::ifstream err(dir + "/err.txt");
-        const std::string text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
-        CHECK(text.find(name + ": not a readable image: " + message) != std::string::npos);
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 20);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(name + ": not a readable image: " + message) != std::string::npos);
     }
     // A 4x4 4-bit PNG whose 4-entry palette covers its indices, and a TGA with a palette.
     for (const std::string name : {"pal4.png", "pal.tga"}) {
@@ -1230,12 +1223,8 @@ TEST_CASE("a texture read from a pipe renders as the same file does") {
     const std::string piped = "cat " + dir + "/file.png > " + dir + "/pipe.png & timeout 20 " + TEXR_BINARY + " render " + dir +
                               "/pipe.txt -o " + dir + "/pipe.ppm > /dev/null 2>&1";
     CHECK(std::system(piped.c_str()) == 0);
-    const auto bytes = [](const std::string& path) {
-        std::ifstream in(path, std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
-    CHECK(bytes(dir + "/file.ppm").size() > 32 * 24 * 3);
-    CHECK(bytes(dir + "/pipe.ppm") == bytes(dir + "/file.ppm"));
+    CHECK(read_file(dir + "/file.ppm").size() > 32 * 24 * 3);
+    CHECK(read_file(dir + "/pipe.ppm") == read_file(dir + "/file.ppm"));
 }
 
 TEST_CASE("texr explain measures a node-registered texture's footprint in spacings between nodes") {

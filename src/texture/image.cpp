@@ -266,12 +266,12 @@ std::vector<unsigned char> file_bytes(const std::string& path) {
 // palette in a stack array), and the other decoders may stop short of filling the buffer they
 // allocated (a JPEG component without a scan, a TGA cut short). PNG images without a palette,
 // Radiance HDR and PPM/PGM (checked by short_pnm) fill every texel or fail.
-bool may_leave_texels_unset(const std::vector<unsigned char>& file) {
+bool may_leave_texels_unset(const std::vector<unsigned char>& file, bool hdr) {
     static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (file.size() > 25 && std::memcmp(file.data(), png, 8) == 0 && std::memcmp(file.data() + 12, "IHDR", 4) == 0)
         return file[25] == 3;  // colour type 3: palette indices
     if (file.size() >= 2 && file[0] == 'P' && (file[1] == '5' || file[1] == '6')) return false;
-    return !stb_decode::is_hdr(file.data(), int(file.size()));
+    return !hdr;
 }
 
 // A 64-bit hash of decoded texels (FNV-1a on 8-byte words, then mixed): two decodes of one
@@ -297,14 +297,15 @@ stb_decode::Pixels decode(const std::string& path) {
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
-    if (stb_decode::is_hdr(file.data(), length))
+    const bool hdr = stb_decode::is_hdr(file.data(), length);
+    if (hdr)
         if (const std::string cut = hdr_runs_cut(file); !cut.empty()) throw InputError(path, 0, cut);
     // Formats that can leave texels unset are decoded twice, with every byte stb_image allocates
     // and the stack below it set to 0 and then to 0xff: texels the file defines come out the
     // same; any other difference is memory the file left unset (valgrind showed such frames
     // change from run to run). The first result is kept only as a hash, so that two decoded
     // images are never held at once.
-    const bool twice = may_leave_texels_unset(file);
+    const bool twice = may_leave_texels_unset(file, hdr);
     std::uint64_t first_hash = 0;
     int first_width = 0, first_height = 0;
     if (twice) {
