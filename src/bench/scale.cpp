@@ -105,7 +105,7 @@ Mesh terrain(int k) {
 
 // A procedural size x size sRGB texture (cells and a fine checker, like detail.png).
 std::shared_ptr<const Image> procedural_texture(int size) {
-    std::vector<std::uint8_t> rgba(std::size_t(size) * std::size_t(size) * 4);
+    LargeVector<std::uint8_t> rgba(std::size_t(size) * std::size_t(size) * 4);
     for (int j = 0; j < size; ++j)
         for (int i = 0; i < size; ++i) {
             const std::size_t p = 4 * (std::size_t(j) * std::size_t(size) + std::size_t(i));

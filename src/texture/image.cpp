@@ -20,7 +20,7 @@
 
 namespace texr {
 
-Image Image::ldr(int width, int height, ColorSpace space, std::vector<std::uint8_t> rgba) {
+Image Image::ldr(int width, int height, ColorSpace space, LargeVector<std::uint8_t> rgba) {
     Image image;
     image.width_ = width;
     image.height_ = height;
@@ -32,7 +32,7 @@ Image Image::ldr(int width, int height, ColorSpace space, std::vector<std::uint8
     return image;
 }
 
-Image Image::hdr(int width, int height, std::vector<float> rgba) {
+Image Image::hdr(int width, int height, LargeVector<float> rgba) {
     Image image;
     image.width_ = width;
     image.height_ = height;
@@ -55,9 +55,9 @@ const float* unorm8_to_float_table() {
 namespace {
 
 template <typename T>
-std::vector<T> flipped_rows(const T* top_down, int width, int height) {
+LargeVector<T> flipped_rows(const T* top_down, int width, int height) {
     const std::size_t row = std::size_t(width) * 4;
-    std::vector<T> out(row * std::size_t(height));
+    LargeVector<T> out(row * std::size_t(height));
     for (int j = 0; j < height; ++j)  // file row j (from the top) becomes row height-1-j
         std::memcpy(&out[row * std::size_t(height - 1 - j)], top_down + row * std::size_t(j),
                     row * sizeof(T));

@@ -168,8 +168,8 @@ std::uint8_t to_unorm8(float linear) {
 Image reduce(const Image& source, int mw, int mh, const Footprints& fx, const Footprints& fy, const Color4& border) {
     RowReducer reducer(source, fx, border);
     const std::size_t count = std::size_t(mw) * std::size_t(mh);
-    std::vector<float> hdr(source.is_hdr() ? count * 4 : 0);
-    std::vector<std::uint8_t> ldr(source.is_hdr() ? 0 : count * 4);
+    LargeVector<float> hdr(source.is_hdr() ? count * 4 : 0);
+    LargeVector<std::uint8_t> ldr(source.is_hdr() ? 0 : count * 4);
     const bool srgb = source.color_space() == ColorSpace::srgb;
     const std::uint8_t* const srgb_table = linear_to_srgb8_table();
     std::vector<float> out_row(4 * std::size_t(mw));

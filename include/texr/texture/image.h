@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "texr/core/color.h"
+#include "texr/core/large_buffer.h"
 
 namespace texr {
 
@@ -49,8 +50,17 @@ struct LdrLevel {
 class Image {
 public:
     Image() = default;
-    static Image ldr(int width, int height, ColorSpace space, std::vector<std::uint8_t> rgba);
-    static Image hdr(int width, int height, std::vector<float> rgba);
+    // RGBA texels, bottom row first. (Texels in another kind of vector are copied.)
+    static Image ldr(int width, int height, ColorSpace space, LargeVector<std::uint8_t> rgba);
+    static Image hdr(int width, int height, LargeVector<float> rgba);
+    template <typename Allocator>
+    static Image ldr(int width, int height, ColorSpace space, const std::vector<std::uint8_t, Allocator>& rgba) {
+        return ldr(width, height, space, LargeVector<std::uint8_t>(rgba.begin(), rgba.end()));
+    }
+    template <typename Allocator>
+    static Image hdr(int width, int height, const std::vector<float, Allocator>& rgba) {
+        return hdr(width, height, LargeVector<float>(rgba.begin(), rgba.end()));
+    }
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -90,8 +100,8 @@ private:
     ColorSpace space_ = ColorSpace::srgb;
     bool hdr_ = false;
     bool ldr_pow2_ = false;
-    std::vector<std::uint8_t> texels_8_;
-    std::vector<float> texels_f_;
+    LargeVector<std::uint8_t> texels_8_;  // (in 2 MiB pages: see large_buffer.h)
+    LargeVector<float> texels_f_;
     const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255
 };
 
