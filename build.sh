@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev doctest-dev)
+packages=(cmake make g++ libglm-dev libstb-dev libtinyobjloader-dev zlib1g-dev doctest-dev)
 test_packages=(clang libclang-rt-14-dev)  # the fuzz targets (libFuzzer), for ./build.sh test only
 
 # install_missing PACKAGE...: apt-get those not installed (as root), else say how.

@@ -1,7 +1,5 @@
-// PNG (stb_image_write) and PPM frame output, written atomically (see the header).
+// PNG (png_encode.h) and PPM frame output, written atomically (see the header).
 #include "texr/io/frame_writer.h"
-
-#include <stb_image_write.h>
 
 #include <atomic>
 #include <cerrno>
@@ -14,6 +12,7 @@
 
 #include "texr/core/error.h"
 #include "texr/core/path.h"
+#include "png_encode.h"
 
 namespace texr {
 
@@ -24,12 +23,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
     for (std::size_t i = 0; i < suffix.size(); ++i)
         if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) != suffix[i]) return false;
     return true;
-}
-
-void append_bytes(void* context, void* data, int size) {
-    auto* out = static_cast<std::vector<std::uint8_t>*>(context);
-    const auto* bytes = static_cast<const std::uint8_t*>(data);
-    out->insert(out->end(), bytes, bytes + size);
 }
 
 }  // namespace
@@ -61,15 +54,8 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
         out.insert(out.end(), rgb.begin(), rgb.end());
         return out;
     }
-    // stb_image_write's defaults (compression level 8, and each row tried with all five PNG
-    // filters) took 160 ms on the 1024x768 benchmark plane, 15 times its render. Level 5 (the
-    // lowest stb_image_write honours) with the Sub filter on every row took 60 ms there and
-    // 46 ms instead of 80 on the demo frame; the plane's file came out 6% smaller (bilinear;
-    // 4.5% trilinear), the demo's 0.2% larger (README, "Rendering").
-    stbi_write_png_compression_level = 5;
-    stbi_write_force_png_filter = 1;
-    if (!stbi_write_png_to_func(append_bytes, &out, fb.width, fb.height, 3, rgb.data(), fb.width * 3))
-        throw InputError("cannot encode the frame as PNG");
+    out = png::encode_rgb8(rgb.data(), fb.width, fb.height);
+    if (out.empty()) throw InputError("cannot encode the frame as PNG");
     return out;
 }
 
