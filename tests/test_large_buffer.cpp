@@ -2,17 +2,38 @@
 // memory like any other: every byte written reads back, and vectors of them behave.
 #include <doctest/doctest.h>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 #include "texr/core/large_buffer.h"
 #include "texr/texture/image.h"
 
 using namespace texr;
 
+namespace {
+
+// Whether every page of [p, p + bytes) is mapped (mincore fails with ENOMEM when one is not).
+bool mapped(const void* p, std::size_t bytes) {
+    std::vector<unsigned char> resident((bytes + 4095) / 4096);
+    return mincore(const_cast<void*>(p), bytes, resident.data()) == 0;
+}
+
+}  // namespace
+
 TEST_CASE("buffers of 1 MiB and more start on a 2 MiB boundary, smaller ones come from operator new") {
     CHECK_FALSE(maps_large(1000));
     CHECK_FALSE(maps_large((std::size_t(1) << 20) - 1));
+#ifdef TEXR_ADDRESS_SANITIZER
+    CHECK_FALSE(maps_large(std::size_t(1) << 20));  // AddressSanitizer sees every buffer
+#else
+    CHECK(maps_large(std::size_t(1) << 20));
+    CHECK(maps_large(std::size_t(1) << 30));
+#endif
     for (const std::size_t bytes : {std::size_t(1) << 20, std::size_t(2) << 20, (std::size_t(3) << 20) + 1}) {
         CAPTURE(bytes);
         auto* p = static_cast<std::uint8_t*>(allocate_large(bytes));
@@ -26,6 +47,12 @@ TEST_CASE("buffers of 1 MiB and more start on a 2 MiB boundary, smaller ones com
         p[bytes - 1] = 0xa5;
         CHECK(p[bytes - 1] == 0xa5);
         free_large(p, bytes);
+        // A mapped buffer is given back whole: every one of its 2 MiB pages is unmapped.
+        if (maps_large(bytes)) {
+            bool any_left = false;
+            for (std::size_t page = 0; page < bytes; page += huge_page_bytes) any_left = any_left || mapped(p + page, 4096);
+            CHECK_FALSE(any_left);
+        }
     }
     void* small = allocate_large(100);
     std::memset(small, 1, 100);

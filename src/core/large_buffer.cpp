@@ -4,15 +4,6 @@
 #include <sys/mman.h>
 
 #include <cstdint>
-#include <new>
-
-#if defined(__SANITIZE_ADDRESS__)
-#define TEXR_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define TEXR_ADDRESS_SANITIZER 1
-#endif
-#endif
 
 namespace texr {
 namespace {

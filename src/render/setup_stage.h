@@ -38,13 +38,13 @@ bool finite(const glm::dvec4& p) {
 }
 
 // Object-space vertex data carried to clip space, per object. (Sized per frame but not
-// cleared, FrameVector: transform writes every entry; clearing some 16 MB per frame for a
+// cleared, ScratchVector: transform writes every entry; clearing some 16 MB per frame for a
 // 500k-vertex mesh took a millisecond or two before the workers started.)
 struct TransformedMesh {
-    FrameVector<glm::dvec4> clip;
+    ScratchVector<glm::dvec4> clip;
     // Per vertex: clip_outcode's bits, and not_finite for a NaN or infinite coordinate.
-    FrameVector<std::uint8_t> code;
-    FrameVector<glm::dvec3> world, normal;  // filled only when a material needs them
+    ScratchVector<std::uint8_t> code;
+    ScratchVector<glm::dvec3> world, normal;  // filled only when a material needs them
     static constexpr std::uint8_t not_finite = 1 << 7;
 };
 

@@ -1,4 +1,5 @@
-// Memory for texr's large buffers: texels, mip levels and frame buffers.
+// Memory for texr's large buffers that live across frames: texels, mip levels and the frame
+// buffers. (Not for buffers made anew every frame: each would be faulted in afresh.)
 // A texture read across a receding plane touches a different 4 KiB page for nearly every
 // pixel near the horizon, and each new page costs a TLB miss (a walk of the page tables).
 // Backed by 2 MiB pages, a 1024x1024 RGBA texture is two TLB entries. So buffers of at
@@ -9,9 +10,16 @@
 // Under AddressSanitizer every buffer comes from operator new, so overruns are still caught.
 #pragma once
 #include <cstddef>
-#include <memory>
-#include <utility>
+#include <new>
 #include <vector>
+
+#if defined(__SANITIZE_ADDRESS__)  // g++
+#define TEXR_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)  // clang
+#if __has_feature(address_sanitizer)
+#define TEXR_ADDRESS_SANITIZER 1
+#endif
+#endif
 
 namespace texr {
 
@@ -25,13 +33,13 @@ void free_large(void* p, std::size_t bytes) noexcept;
 // Whether allocate_large maps buffers of this size itself (false under AddressSanitizer).
 bool maps_large(std::size_t bytes);
 
-// A std::allocator whose large allocations come from allocate_large.
+// An allocator whose large allocations come from allocate_large (a minimal one, written
+// out rather than derived from std::allocator, so that no inherited member can allocate
+// memory that deallocate would then release the wrong way).
 template <typename T>
-struct LargeAllocator : std::allocator<T> {
-    template <typename U>
-    struct rebind {
-        using other = LargeAllocator<U>;
-    };
+struct LargeAllocator {
+    static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__, "operator new serves the small buffers");
+    using value_type = T;
     LargeAllocator() = default;
     template <typename U>
     LargeAllocator(const LargeAllocator<U>&) {}
@@ -40,6 +48,10 @@ struct LargeAllocator : std::allocator<T> {
         return static_cast<T*>(allocate_large(n * sizeof(T)));
     }
     void deallocate(T* p, std::size_t n) noexcept { free_large(p, n * sizeof(T)); }
+    template <typename U>
+    bool operator==(const LargeAllocator<U>&) const { return true; }
+    template <typename U>
+    bool operator!=(const LargeAllocator<U>&) const { return false; }
 };
 
 template <typename T>

@@ -14,19 +14,18 @@
 
 namespace texr {
 
-// An allocator whose containers leave new elements uninitialised, so that a frame's buffers
-// can be cleared in parallel, each worker its own rows, instead of once serially. Frames are
-// large buffers (large_buffer.h): a 1024x768 frame's 12 MB in 4 KiB pages took 12 ms to
-// clear the first time, most of it in the system's page faults; in 2 MiB pages, 3 ms.
-template <typename T>
-struct UninitializedAllocator : LargeAllocator<T> {
+// An allocator (over `Base`) whose containers leave new elements uninitialised, so that a
+// frame's buffers can be cleared in parallel, each worker its own rows, instead of once
+// serially, and buffers that are written whole are not cleared first.
+template <typename T, typename Base = std::allocator<T>>
+struct UninitializedAllocator : Base {
     template <typename U>
     struct rebind {
-        using other = UninitializedAllocator<U>;
+        using other = UninitializedAllocator<U, typename std::allocator_traits<Base>::template rebind_alloc<U>>;
     };
     UninitializedAllocator() = default;
-    template <typename U>
-    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <typename U, typename B>
+    UninitializedAllocator(const UninitializedAllocator<U, B>&) {}
     template <typename U>
     void construct(U*) noexcept {}  // default-construct: leave it
     template <typename U, typename... Args>
@@ -35,8 +34,17 @@ struct UninitializedAllocator : LargeAllocator<T> {
     }
 };
 
+// A frame's buffers: uninitialised, and large buffers (large_buffer.h). A 1024x768 frame's
+// 12 MB in 4 KiB pages took 12 ms to clear the first time, most of it in the system's page
+// faults; in 2 MiB pages, 3 ms. (The renderer keeps its frame across frames.)
 template <typename T>
-using FrameVector = std::vector<T, UninitializedAllocator<T>>;
+using FrameVector = std::vector<T, UninitializedAllocator<T, LargeAllocator<T>>>;
+
+// Uninitialised buffers from operator new, for buffers made anew every frame: glibc then
+// reuses the same memory frame after frame, where fresh mappings would be faulted in (and
+// zeroed by the system) each time.
+template <typename T>
+using ScratchVector = std::vector<T, UninitializedAllocator<T>>;
 
 struct Framebuffer {
     int width = 0, height = 0;
