@@ -1,6 +1,6 @@
 // stb_image compiled with texr's allocation functions (see stb_decode.h). Debian's libstb-dev
 // ships the implementation in stb_image.h; STB_IMAGE_STATIC keeps it private to this file,
-// apart from libstb's own copy, which the tests and stb_image_write's users still link.
+// apart from libstb's own copy, which the tests link (to write their test images).
 #include "stb_decode.h"
 
 #include <cstdlib>
