@@ -574,24 +574,30 @@ private:
     static void replace_zero_normals(Mesh& mesh) {
         const auto zero = [](const Vertex& v) { return v.normal == glm::vec3(0.0f); };
         if (std::none_of(mesh.vertices.begin(), mesh.vertices.end(), zero)) return;
-        Mesh computed = mesh;
-        fill_smooth_normals(computed);
+        const std::vector<glm::vec3> computed = smooth_normals(mesh);
         for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-            if (zero(mesh.vertices[i])) mesh.vertices[i].normal = computed.vertices[i].normal;
+            if (zero(mesh.vertices[i])) mesh.vertices[i].normal = computed[i];
+    }
+
+    static void fill_smooth_normals(Mesh& mesh) {
+        const std::vector<glm::vec3> computed = smooth_normals(mesh);
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) mesh.vertices[i].normal = computed[i];
     }
 
     // Area-weighted average of the face normals at each vertex (right-handed winding).
-    static void fill_smooth_normals(Mesh& mesh) {
+    static std::vector<glm::vec3> smooth_normals(const Mesh& mesh) {
         std::vector<glm::dvec3> sum(mesh.vertices.size(), glm::dvec3(0.0));
         for (const auto& t : mesh.triangles) {
             const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
             const glm::dvec3 n = glm::cross(b - a, c - a);
             for (auto i : t) sum[i] += n;
         }
+        std::vector<glm::vec3> normals(sum.size());
         for (std::size_t i = 0; i < sum.size(); ++i) {
             const double len = glm::length(sum[i]);
-            mesh.vertices[i].normal = len > 0.0 ? glm::vec3(sum[i] / len) : glm::vec3(0.0f, 0.0f, 1.0f);
+            normals[i] = len > 0.0 ? glm::vec3(sum[i] / len) : glm::vec3(0.0f, 0.0f, 1.0f);
         }
+        return normals;
     }
 
     Scene& scene_;

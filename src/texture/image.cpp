@@ -309,10 +309,10 @@ stb_decode::Pixels decode(const std::string& path) {
     std::uint64_t first_hash = 0;
     int first_width = 0, first_height = 0;
     if (twice) {
-        const stb_decode::Pixels first = stb_decode::decode(file.data(), length, 0x00);
+        const stb_decode::Pixels first = stb_decode::decode(file.data(), length, hdr, 0x00);
         if (first.data) first_hash = hash_of(first), first_width = first.width, first_height = first.height;
     }
-    stb_decode::Pixels d = stb_decode::decode(file.data(), length, 0xff);
+    stb_decode::Pixels d = stb_decode::decode(file.data(), length, hdr, 0xff);
     if (!d.data) throw InputError(path, 0, unreadable(d.failure.c_str()));
     if (d.width <= 0 || d.height <= 0) throw InputError(path, 0, "not a readable image: it has no texels");
     if (twice && (first_width != d.width || first_height != d.height || first_hash != hash_of(d)))

@@ -52,11 +52,11 @@ namespace texr::stb_decode {
 
 bool is_hdr(const unsigned char* bytes, int length) { return stbi_is_hdr_from_memory(bytes, length) != 0; }
 
-Pixels decode(const unsigned char* bytes, int length, unsigned char fill) {
+Pixels decode(const unsigned char* bytes, int length, bool hdr, unsigned char fill) {
     fill_byte = fill;
     Pixels p;
     p.data = std::unique_ptr<void, void (*)(void*)>(nullptr, [](void* q) { stbi_image_free(q); });
-    p.hdr = is_hdr(bytes, length);
+    p.hdr = hdr;
     int channels = 0;
     fill_stack_below();
     p.data.reset(p.hdr ? static_cast<void*>(stbi_loadf_from_memory(bytes, length, &p.width, &p.height, &channels, 4))

@@ -18,7 +18,8 @@ struct Pixels {
 
 bool is_hdr(const unsigned char* bytes, int length);
 
-// Decodes with every byte stb_image allocates, and the stack it runs on, first set to `fill`.
-Pixels decode(const unsigned char* bytes, int length, unsigned char fill);
+// Decodes with every byte stb_image allocates, and the stack it runs on, first set to `fill`:
+// as float texels when `hdr` (is_hdr's answer for these bytes), else as 8-bit ones.
+Pixels decode(const unsigned char* bytes, int length, bool hdr, unsigned char fill);
 
 }  // namespace texr::stb_decode
