@@ -8,7 +8,7 @@
 
 namespace {
 
-unsigned char fill_byte = 0;  // set by decode() for the call it makes (scene loading is single-threaded)
+thread_local unsigned char fill_byte = 0;  // set by decode() for the call it makes on this thread
 
 void* filled_malloc(std::size_t size) {
     void* p = std::malloc(size);
