@@ -1209,6 +1209,57 @@ TEST_CASE("an uncompressed BMP shorter than its header says is refused, one with
     CHECK(image.texel(2, 0) == texr::Color4(70 / 255.0f, 80 / 255.0f, 90 / 255.0f, 1.0f));
 }
 
+TEST_CASE("a sequential JPEG whose header asks for more blocks than its data could hold is refused") {
+    // Every 8 x 8 block of a sequential JPEG costs at least 2 bits (a DC code and an end of
+    // block, each at least 1 bit). stb_image_write's JPEG at quality 90 is 4:2:0: an MCU of
+    // 16 x 16 pixels holds 4 luma blocks and one of each chroma, 6 blocks, 12 bits at least.
+    // stb_image read such a file as if zeros followed (613 bytes claiming 16000 x 16000
+    // took 12 s and 2 GB).
+    const std::string dir = scratch_folder("jpeg-short");
+    unsigned char rgb[8 * 8 * 3];
+    for (std::size_t i = 0; i < sizeof rgb; ++i) rgb[i] = static_cast<unsigned char>(37 * i);
+    std::string jpeg;
+    REQUIRE(stbi_write_jpg_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
+                                   &jpeg, 8, 8, 3, rgb, 90));
+    // The frame header: FF C0, length 17, precision 8, height, width, 3 components: Y sampled
+    // 2 x 2, Cb and Cr 1 x 1.
+    const std::size_t sof = jpeg.find("\xff\xc0");
+    REQUIRE(sof != std::string::npos);
+    REQUIRE(jpeg.substr(sof, 10) == std::string("\xff\xc0\x00\x11\x08\x00\x08\x00\x08\x03", 10));
+    REQUIRE(static_cast<unsigned char>(jpeg[sof + 11]) == 0x22);
+    REQUIRE(static_cast<unsigned char>(jpeg[sof + 14]) == 0x11);
+    REQUIRE(static_cast<unsigned char>(jpeg[sof + 17]) == 0x11);
+    const auto with_size = [&](int width, int height) {
+        std::string j = jpeg;
+        j[sof + 5] = char(height >> 8), j[sof + 6] = char(height & 255), j[sof + 7] = char(width >> 8), j[sof + 8] = char(width & 255);
+        std::ofstream(dir + "/t.jpg", std::ios::binary) << j;
+        write_text(dir + "/scene.txt", "texture t file t.jpg\nmaterial m texture t\n"
+                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
+        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
+    };
+    const std::string file_bytes = std::to_string(jpeg.size());
+    // 16000 x 16000: 1000 x 1000 MCUs of 6 blocks, 12e6 bits: 1500000 bytes.
+    RunResult r = with_size(16000, 16000);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("t.jpg: not a readable image: the file is cut short (a 16000 x 16000 sequential JPEG needs at least "
+                        "1500000 bytes of image data, the file holds " + file_bytes + ")") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+    // A row of MCUs 16 pixels high: as many as the file's bits can hold is read, one more is not.
+    const int mcus = int(jpeg.size() * 8 / 12);
+    r = with_size(16 * mcus, 16);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    r = with_size(16 * (mcus + 1), 16);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("t.jpg: not a readable image: the file is cut short") != std::string::npos);
+    // The file as written reads.
+    r = with_size(8, 8);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+}
+
 TEST_CASE("a texture read from a pipe renders as the same file does") {
     // A pipe can be read once: the loader read the format through one open and decoded
     // through another, which waited for a second writer for ever (`timeout` turns such a wait
