@@ -1086,11 +1086,11 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
     };
     write_hex("pal.png", "89504e470d0a1a0a0000000d49484452000000040000000408030000009e2f6e4c00000006504c5445000000000000a567b9cf0000001049444154789c6360603cf19f019500003fcc0721b514375c0000000049454e44ae426082");
     write_hex("pal.bmp", "424d4e000000000000003e0000002800000004000000040000000100080000000000100000000000000000000000020000000000000000000000000000000001c8ff0001c8ff0001c8ff0001c8ff");
-    write_hex("short.tga", "0000020000000000000000004000400018001010101010");
+    write_hex("short.tga", "0000020000000000000000004000400018001010101010");  // (refused before it is decoded: below)
     write_hex("noscan.jpg", "ffd8ffc0000b080008000801011100ffd9");
     write_hex("pal4.png", "89504e470d0a1a0a0000000d49484452000000040000000404030000005bdf834d0000000c504c5445000102030405060708090a0bdc4c389c0000000174524e5380ad5e5b460000000d49444154789c63605466802100032800910d3b44840000000049454e44ae426082");
     write_hex("pal.tga", "000101000002001800000000040004000800ff000000ff00000102fa000102fa000102fa000102fa");
-    for (const std::string name : {"pal.png", "short.tga", "noscan.jpg"}) {
+    for (const std::string name : {"pal.png", "noscan.jpg"}) {
         CAPTURE(name);
         write_text(dir + "/scene.txt", "texture t file " + name + "\n" + good_scene);
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
@@ -1112,6 +1112,8 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
         {"flat-cut.hdr", "the file is cut short (its texels need 48 more bytes, it holds 0)"},
         {"row-cut.hdr", "the file is cut short (its texels need 64 more bytes, it holds 0)"},
         {"os2-p4.bmp", "palette index 15 is beyond the 12 palette entries stb_image reads (of an OS/2 BMP it reads 4 fewer than the file holds)"},
+        // 18 bytes of header and 64 x 64 x 3 of texels
+        {"short.tga", "the file is cut short (a 64 x 64 TGA needs at least 12306 bytes, the file holds 23)"},
     };
     write_hex("os2.bmp", "424d2800000000000000200000000c0000000800010001000100000000ffffff55000000");
     write_hex("short-palette.bmp", "424d3e000000000000003a000000280000000400000001000000010008000000000004000000130b0000130b000000000000000000001e140a00a0a0a0a0");
@@ -1258,6 +1260,73 @@ TEST_CASE("a sequential JPEG whose header asks for more blocks than its data cou
     r = with_size(8, 8);
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("a TGA or Photoshop file shorter than its header asks for is refused before it is decoded") {
+    // stb_image read such files as if zeros followed: 22 to 56 bytes claiming 16000 x 16000
+    // took 6 to 11 s and 2 GB each. Small files written by hand (hex), whole, one byte short,
+    // and with the header of a 16000 x 16000 image.
+    const std::string dir = scratch_folder("tga-psd-short");
+    const auto bytes_of = [](const std::string& hex) {
+        std::string bytes;
+        for (std::size_t i = 0; i + 1 < hex.size(); i += 2) bytes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+        return bytes;
+    };
+    struct File {
+        std::string name, whole, huge;  // the file, and its header claiming 16000 x 16000 (3e80 hex)
+        std::size_t needed_huge;
+        const char* kind;
+    };
+    const std::string psd_start = "3842505300010000000000000003";  // 8BPS, version 1, 6 reserved bytes, 3 channels
+    const File files[] = {
+        // Uncompressed 24-bit, 2 x 2 (BGR texels): 18 + 12 bytes; 18 + 16000^2 x 3.
+        {"raw.tga", bytes_of("000002" "000000000000000000" "02000200" "1800" "0a141e" "0a141e" "0a141e" "0a141e"),
+         bytes_of("000002" "000000000000000000" "803e803e" "1800" "0a141e"), 768000018, "TGA"},
+        // Run-length 24-bit, 4 x 2: one packet repeating one texel 8 times, 18 + 4 bytes;
+        // 18 + 16000^2 / 128 packets of 4 bytes.
+        {"rle.tga", bytes_of("00000a" "000000000000000000" "04000200" "1800" "87" "0a141e"),
+         bytes_of("00000a" "000000000000000000" "803e803e" "1800" "87" "0a141e"), 8000018, "run-length TGA"},
+        // Photoshop, 3 channels of 8 bits, RGB, three empty sections, raw: 26 + 12 + 2 + 12 bytes;
+        // 40 + 3 x 16000^2.
+        {"raw.psd", bytes_of(psd_start + "00000002" "00000002" "0008" "0003" "00000000" "00000000" "00000000" "0000" "1e1e1e1e" "14141414" "0a0a0a0a"),
+         bytes_of(psd_start + "00003e80" "00003e80" "0008" "0003" "00000000" "00000000" "00000000" "0000" "1e1e1e1e"), 768000040,
+         "Photoshop image"},
+        // Run-length: 40 bytes, a 2-byte count per row of each channel (12), then per channel
+        // one run repeating a value 4 times (fd = -3: 257 - 253 = 4), 2 bytes: 58 bytes;
+        // 40 + 16000 x 3 x 2 + 3 x 16000^2 / 128 runs of 2 bytes.
+        {"rle.psd", bytes_of(psd_start + "00000002" "00000002" "0008" "0003" "00000000" "00000000" "00000000" "0001" "000200020002000200020002" "fd1e" "fd14" "fd0a"),
+         bytes_of(psd_start + "00003e80" "00003e80" "0008" "0003" "00000000" "00000000" "00000000" "0001" "fd1e"), 12096040,
+         "run-length Photoshop image"},
+    };
+    const auto render_with = [&](const std::string& name, const std::string& bytes) {
+        std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+        write_text(dir + "/scene.txt", "texture t file " + name + "\nmaterial m texture t\n"
+                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
+        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
+    };
+    for (const File& f : files) {
+        CAPTURE(f.name);
+        // Whole: it reads, every texel (30, 20, 10) / 255 (TGA stores blue first).
+        RunResult r = render_with(f.name, f.whole);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        const texr::Image image = texr::load_image(dir + "/" + f.name, texr::ColorSpace::linear);
+        CHECK(image.texel(0, 0) == texr::Color4(30 / 255.0f, 20 / 255.0f, 10 / 255.0f, 1.0f));
+        CHECK(image.texel(image.width() - 1, image.height() - 1) == texr::Color4(30 / 255.0f, 20 / 255.0f, 10 / 255.0f, 1.0f));
+        std::remove((dir + "/out.png").c_str());
+        // One byte short.
+        r = render_with(f.name, f.whole.substr(0, f.whole.size() - 1));
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(f.name + ": not a readable image: the file is cut short (a " + std::to_string(image.width()) + " x " +
+                            std::to_string(image.height()) + " " + f.kind + " needs at least " + std::to_string(f.whole.size()) +
+                            " bytes, the file holds " + std::to_string(f.whole.size() - 1) + ")") != std::string::npos);
+        // 16000 x 16000 claimed.
+        r = render_with(f.name, f.huge);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(f.name + ": not a readable image: the file is cut short (a 16000 x 16000 " + f.kind + " needs at least " +
+                            std::to_string(f.needed_huge) + " bytes, the file holds " + std::to_string(f.huge.size()) + ")") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
 }
 
 TEST_CASE("a texture read from a pipe renders as the same file does") {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 
@@ -288,6 +289,64 @@ std::string short_jpeg(const std::vector<unsigned char>& file) {
     return "";
 }
 
+// The message for a file shorter than the least its header asks for: `needed` bytes in all.
+std::string cut_short(const char* kind, std::uint64_t width, std::uint64_t height, std::uint64_t needed, std::size_t holds) {
+    return "not a readable image: the file is cut short (a " + std::to_string(width) + " x " + std::to_string(height) + " " + kind +
+           " needs at least " + std::to_string(needed) + " bytes, the file holds " + std::to_string(holds) + ")";
+}
+
+// stb_image reads a TGA whose pixels end early as if zeros followed (a 22-byte run-length
+// TGA claiming 16000 x 16000 took 11 s and 2 GB). A TGA holds, after its 18-byte header,
+// the ID field and the palette, either every pixel value or, run-length coded, packets of a
+// 1-byte count and at least one value for at most 128 pixels each. Returns the message for
+// a file shorter than that, or "". The header is taken as a TGA only where stb_image's own
+// test would take it as one (a TGA has no signature).
+std::string short_tga(const std::vector<unsigned char>& file) {
+    if (file.size() < 18) return "";
+    const auto u16 = [&](std::size_t at) { return std::uint64_t(file[at]) | std::uint64_t(file[at + 1]) << 8; };
+    const int colour_map = file[1], type = file[2], bits = file[16];
+    const std::uint64_t id_length = file[0], palette_start = u16(3), palette_length = u16(5), palette_bits = file[7];
+    const std::uint64_t width = u16(12), height = u16(14);
+    const auto one_of = [](int x, std::initializer_list<int> set) { return std::find(set.begin(), set.end(), x) != set.end(); };
+    if (colour_map == 1) {
+        if (!one_of(type, {1, 9}) || !one_of(int(palette_bits), {8, 15, 16, 24, 32}) || !one_of(bits, {8, 16})) return "";
+    } else if (colour_map != 0 || !one_of(type, {2, 3, 10, 11}) || !one_of(bits, {8, 15, 16, 24, 32})) {
+        return "";
+    }
+    if (width == 0 || height == 0) return "";
+    const std::uint64_t value_bytes = (std::uint64_t(bits) + 7) / 8, pixels = width * height;
+    std::uint64_t needed = 18 + id_length;
+    if (colour_map == 1) needed += palette_start + palette_length * ((palette_bits + 7) / 8);
+    const bool run_length = type >= 9;
+    needed += run_length ? (pixels + 127) / 128 * (1 + value_bytes) : pixels * value_bytes;
+    if (file.size() >= needed) return "";
+    return cut_short(run_length ? "run-length TGA" : "TGA", width, height, needed, file.size());
+}
+
+// The same for a Photoshop file (stb_image reads its RGB images): after the 26-byte header
+// and three sections of a 4-byte length each, a 2-byte compression code, then for each of
+// the first four channels (stb_image reads no more) every sample, or, run-length coded, a
+// table of 2 bytes per row of every channel and runs of at most 128 samples in 2 bytes or
+// more each. (A header cut short inside its sections reads as compression 0.)
+std::string short_psd(const std::vector<unsigned char>& file) {
+    if (file.size() < 26 || std::memcmp(file.data(), "8BPS", 4) != 0) return "";
+    const auto u16 = [&](std::size_t at) { return std::uint64_t(file[at]) << 8 | std::uint64_t(file[at + 1]); };
+    const auto u32 = [&](std::size_t at) { return u16(at) << 16 | u16(at + 2); };
+    const std::uint64_t channels = u16(12), height = u32(14), width = u32(18), depth = u16(22);
+    if (u16(4) != 1 || channels > 16 || height == 0 || width == 0 || height > (1 << 24) || width > (1 << 24) ||
+        (depth != 8 && depth != 16) || u16(24) != 3)
+        return "";  // refused by stb_image
+    std::uint64_t at = 26;
+    for (int section = 0; section < 3; ++section) at += 4 + (at + 4 <= file.size() ? u32(std::size_t(at)) : 0);
+    const std::uint64_t compression = at + 2 <= file.size() ? u16(std::size_t(at)) : 0;
+    if (compression > 1) return "";  // refused by stb_image
+    const std::uint64_t read = std::min<std::uint64_t>(channels, 4), pixels = width * height;
+    const std::uint64_t needed = at + 2 + (compression == 1 ? height * channels * 2 + read * ((pixels + 127) / 128) * 2
+                                                            : read * pixels * (depth / 8));
+    if (file.size() >= needed) return "";
+    return cut_short(compression == 1 ? "run-length Photoshop image" : "Photoshop image", width, height, needed, file.size());
+}
+
 // The whole file, read once (a pipe can be read only once; stb_image then decodes from
 // memory). stb_image takes the length as an int: a file of 2 GiB or more is refused, by its
 // size before anything is read when it has one.
@@ -353,6 +412,8 @@ stb_decode::Pixels decode(const std::string& path) {
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_jpeg(file); !cut.empty()) throw InputError(path, 0, cut);
+    if (const std::string cut = short_tga(file); !cut.empty()) throw InputError(path, 0, cut);
+    if (const std::string cut = short_psd(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
     const bool hdr = stb_decode::is_hdr(file.data(), length);
     if (hdr)
