@@ -31,6 +31,21 @@ struct ScaleRow {
     std::string rate_unit;
 };
 
+// A row's point on the plot: "1.0M triangles", "3840x2160", "8192^2 texels".
+std::string point_label(const ScaleRow& r) {
+    char text[64];
+    if (r.dimension == "pixels") {
+        std::snprintf(text, sizeof text, "%dx%d", r.width, r.height);
+    } else if (r.dimension == "texture") {
+        std::snprintf(text, sizeof text, "%.0f^2 texels", std::sqrt(r.size));
+    } else if (r.size >= 1e6) {
+        std::snprintf(text, sizeof text, "%.1fM %s", r.size / 1e6, r.dimension.c_str());
+    } else {
+        std::snprintf(text, sizeof text, "%.0fk %s", r.size / 1e3, r.dimension.c_str());
+    }
+    return text;
+}
+
 // Peak resident memory of this process so far, in MB.
 double peak_rss_mb() {
     rusage usage{};
@@ -205,16 +220,17 @@ void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows
         md += "| " + r.dimension + " | " + r.scene + " | " + fixed(r.size, 0) + " | " + frame + " | " + std::to_string(r.threads) +
               " | " + (r.dimension == "texture" ? "trilinear" : "bilinear") + " | incremental | " + fixed(r.frame_ms, 2) + " | " + fixed(r.rate, 2) + " " + r.rate_unit + " | " + fixed(r.mip_ms, 1) + " | " +
               fixed(r.peak_mb, 1) + " | " + fixed(r.expected_mb, 1) + " | " + fixed(r.peak_mb / r.expected_mb, 2) + " |\n";
-        points.push_back({r.dimension, fixed(r.size, 0), r.size, r.frame_ms});
+        points.push_back({r.dimension, point_label(r), r.size, r.frame_ms});
     }
     md += "\nData MB: texture texels, mip levels, frame buffers (12-byte colour + 4-byte depth per pixel) and mesh "
           "arrays; peak MB: the measuring process's peak resident size (each row in its own process, program and "
           "libraries included).\n";
     write_text_file(o.out + "/scale.csv", csv);
     write_text_file(o.out + "/scale.md", md);
-    PlotAxes axes{"texr bench scale: frame time as triangles, pixels and texture size grow", "size (triangles, pixels or texels)",
-                  "median frame time, ms", true};
-    axes.log_y = true;
+    PlotAxes axes;
+    axes.title = "texr bench scale: frame time as triangles, pixels and texture size grow";
+    axes.x_label = "size (triangles, pixels or texels)", axes.y_label = "median frame time, ms";
+    axes.log_y = true, axes.connect = true;
     write_text_file(o.out + "/scale.svg", scatter_svg(axes, points));
 }
 

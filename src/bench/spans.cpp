@@ -91,9 +91,10 @@ void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows)
           "precision); the adaptive mode's tolerance is 1/64 texel.\n";
     write_text_file(o.out + "/spans.csv", csv);
     write_text_file(o.out + "/spans.md", md);
-    PlotAxes axes{"texr bench spans: run time against texture coordinate error", "median frame time, ms",
-                  "max error, texels", true};
-    axes.log_y = true;
+    PlotAxes axes;
+    axes.title = "texr bench spans: run time against texture coordinate error", axes.x_label = "median frame time, ms";
+    axes.y_label = "max error, texels", axes.log_y = true;
+    axes.marks = {{1.0 / 64.0, "adaptive's tolerance, 1/64 texel"}};
     write_text_file(o.out + "/spans.svg", scatter_svg(axes, points));
 }
 

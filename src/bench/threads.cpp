@@ -72,8 +72,9 @@ void write_threads_report(const BenchOptions& o, const std::vector<ThreadRow>& r
     }
     write_text_file(o.out + "/threads.csv", csv);
     write_text_file(o.out + "/threads.md", md);
-    PlotAxes axes{"texr bench threads: covered pixels per second", "median frame time, ms", "covered Mpixel/s", true};
-    axes.log_y = true;
+    PlotAxes axes;
+    axes.title = "texr bench threads: covered pixels per second", axes.x_label = "median frame time, ms";
+    axes.y_label = "covered Mpixel/s", axes.log_y = true;
     write_text_file(o.out + "/threads.svg", scatter_svg(axes, points));
 }
 

@@ -1,0 +1,100 @@
+// The benchmark plots: round tick values, and labels that can be read.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "texr/bench/plot.h"
+
+using namespace texr;
+
+namespace {
+void check_ticks(const std::vector<double>& got, const std::vector<double>& expected) {
+    REQUIRE(got.size() == expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i) CHECK(got[i] == doctest::Approx(expected[i]).epsilon(1e-12));
+}
+}  // namespace
+
+TEST_CASE("plot ticks: 1, 2 and 5 times powers of ten, at most eight on a log axis") {
+    // A log axis from 3.07 to 244 ms: 5, 10, 20, 50, 100, 200.
+    check_ticks(axis_ticks(3.07, 244.0, true), {5, 10, 20, 50, 100, 200});
+    // From 4e-14 to 4.5e6 (21 powers of ten): every third power, 7 ticks.
+    check_ticks(axis_ticks(4.15e-14, 4.51e6, true), {1e-12, 1e-9, 1e-6, 1e-3, 1, 1e3, 1e6});
+    // Three powers of ten: 1, 2 and 5 times each would be 10; 1 and 3 times, 7.
+    check_ticks(axis_ticks(0.9, 1100.0, true), {1, 3, 10, 30, 100, 300, 1000});
+    // Linear: (41 - 15) / 6 = 4.3 rounds up to a step of 5; (1 - 0) / 6 to 0.2.
+    check_ticks(axis_ticks(15.0, 41.0, false), {15, 20, 25, 30, 35, 40});
+    check_ticks(axis_ticks(0.0, 1.0, false), {0, 0.2, 0.4, 0.6, 0.8, 1.0});
+    CHECK(axis_ticks(2.0, 1.0, false).empty());
+}
+
+TEST_CASE("plot tick texts are short: plain between 1e-3 and 1e5, powers of ten beyond") {
+    CHECK(tick_text(0.0) == "0");
+    CHECK(tick_text(0.2) == "0.2");
+    CHECK(tick_text(0.6000000000000001) == "0.6");
+    CHECK(tick_text(0.001) == "0.001");
+    CHECK(tick_text(200.0) == "200");
+    CHECK(tick_text(20000.0) == "20000");
+    CHECK(tick_text(1e5) == "1e5");
+    CHECK(tick_text(3e5) == "3e5");
+    CHECK(tick_text(1e-12) == "1e-12");
+    CHECK(tick_text(2e-5) == "2e-5");
+    CHECK(tick_text(-2e6) == "-2e6");
+}
+
+TEST_CASE("plot labels overlap no other label or point and stay inside the plot") {
+    // Two series of crowded points (the filters benchmark's layout: pairs a few pixels apart)
+    // and a reference line among them.
+    const char* names[] = {"nearest", "bilinear", "bicubic", "nearest_mip_nearest", "bilinear_mip_nearest", "trilinear", "anisotropic", "ewa"};
+    const double ms[2][8] = {{0.52, 0.75, 5.1, 0.98, 1.25, 1.7, 13.0, 18.0}, {2.1, 2.8, 9.5, 1.02, 1.4, 2.05, 14.5, 19.0}};
+    const double db[2][8] = {{14.6, 16.8, 15.9, 21.9, 23.4, 23.7, 28.3, 27.7}, {14.8, 17.0, 16.0, 21.9, 24.5, 25.0, 32.7, 32.6}};
+    std::vector<PlotPoint> points;
+    for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < 8; ++k) points.push_back({s == 0 ? "plane" : "grazing", names[k], ms[s][k], db[s][k]});
+    PlotAxes axes;
+    axes.title = "t", axes.x_label = "ms", axes.y_label = "dB";
+    axes.marks = {{29.5, "trilinear's target on the plane, 29.5 dB"}};
+    const std::string svg = scatter_svg(axes, points);
+
+    // The plot area and the circles (the legend's circles lie right of the plot area).
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m, std::regex("<rect x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" width=\"([-0-9.]+)\" height=\"([-0-9.]+)\" fill=\"none\"")));
+    const double left = std::stod(m[1]), top = std::stod(m[2]), right = left + std::stod(m[3]), bottom = top + std::stod(m[4]);
+    struct Box {
+        double x0, y0, x1, y1;
+    };
+    std::vector<Box> circles, labels;
+    const std::regex circle("<circle cx=\"([-0-9.]+)\" cy=\"([-0-9.]+)\" r=\"5\"");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), circle); it != std::sregex_iterator(); ++it) {
+        const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+        if (x < right) circles.push_back({x - 5, y - 5, x + 5, y + 5});
+    }
+    CHECK(circles.size() == points.size());
+    // Label boxes: 12-pixel text from 10 above the baseline to 3 below, plot_label_char_width
+    // per character, placed by its anchor.
+    const std::regex label("<text class=\"label\" x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" text-anchor=\"(start|middle|end)\" fill=\"[^\"]+\">([^<]+)</text>");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), label); it != std::sregex_iterator(); ++it) {
+        const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), w = plot_label_char_width * double((*it)[4].length());
+        const std::string anchor = (*it)[3];
+        const double x0 = anchor == "start" ? x : anchor == "middle" ? x - w / 2 : x - w;
+        labels.push_back({x0, y - 10, x0 + w, y + 3});
+    }
+    REQUIRE(labels.size() == points.size());
+    const auto overlap = [](const Box& a, const Box& b) { return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1; };
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+        CAPTURE(i);
+        CHECK(labels[i].x0 >= left);
+        CHECK(labels[i].x1 <= right);
+        CHECK(labels[i].y0 >= top);
+        CHECK(labels[i].y1 <= bottom);
+        for (std::size_t j = 0; j < labels.size(); ++j) CHECK_FALSE((i != j && overlap(labels[i], labels[j])));
+        for (const Box& c : circles) CHECK_FALSE(overlap(labels[i], c));
+        // Near its own point: within 60 pixels.
+        const Box& c = circles[i];
+        const double cx = (c.x0 + c.x1) / 2, cy = (c.y0 + c.y1) / 2;
+        const double dx = std::max({labels[i].x0 - cx, cx - labels[i].x1, 0.0}), dy = std::max({labels[i].y0 - cy, cy - labels[i].y1, 0.0});
+        CHECK(std::hypot(dx, dy) <= 60.0);
+    }
+}
