@@ -9,6 +9,7 @@
 #include <map>
 
 #include <stb_image_write.h>
+#include <zlib.h>
 
 #include <sys/stat.h>
 
@@ -1258,6 +1259,71 @@ TEST_CASE("a sequential JPEG whose header asks for more blocks than its data cou
     CHECK(r.output.find("t.jpg: not a readable image: the file is cut short") != std::string::npos);
     // The file as written reads.
     r = with_size(8, 8);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("a PNG whose image data cannot hold its header's size is refused before it is decoded") {
+    // Deflate packs at most 1032 bytes into one. stb_image set aside and filled the whole
+    // image before finding too few pixels (1077 bytes claiming 16000 x 16000: 3.7 s, 1.7 GB).
+    const std::string dir = scratch_folder("png-short");
+    const auto write_png = [&](int w, int h, const std::vector<unsigned char>& rgb) {
+        std::string png;
+        REQUIRE(stbi_write_png_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
+                                       &png, w, h, 3, rgb.data(), w * 3));
+        return png;
+    };
+    const auto render_with = [&](const std::string& png) {
+        std::ofstream(dir + "/t.png", std::ios::binary) << png;
+        write_text(dir + "/scene.txt", "texture t file t.png\nmaterial m texture t\n"
+                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
+        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
+    };
+    std::vector<unsigned char> rgb(4 * 4 * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<unsigned char>(71 * i);
+    std::string png = write_png(4, 4, rgb);
+    REQUIRE(png.substr(12, 4) == "IHDR");
+    // IHDR: width and height (big-endian) at bytes 16 and 20; 16000 is 00 00 3e 80.
+    for (const std::size_t at : {16, 20}) png.replace(at, 4, std::string("\x00\x00\x3e\x80", 4));
+    RunResult r = render_with(png);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    // 16000 x 16000 x 3 bytes = 768000000, of which deflate's 1032 : 1 (with 1032 bytes to
+    // spare) needs ceil((768000000 - 1032) / 1032) = 744186 bytes.
+    CHECK(r.output.find("t.png: not a readable image: the file is cut short (a 16000 x 16000 PNG needs at least 744186 bytes of "
+                        "image data") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+    // A flat 2048 x 2048 PNG, the most compressible kind, reads.
+    png = write_png(2048, 2048, std::vector<unsigned char>(2048 * 2048 * 3, 200));
+    CAPTURE(png.size());
+    r = render_with(png);
+    CHECK(r.exit_code == 0);
+    // So does a flat 4096 x 4096 one deflated by zlib at its best (level 9): 50335744 bytes of
+    // rows in about 58600, 859 : 1, near deflate's limit.
+    const std::string rows = [] {
+        std::string one(1 + 4096 * 3, '\xc8');
+        one[0] = 0;  // filter: none
+        std::string all;
+        for (int y = 0; y < 4096; ++y) all += one;
+        return all;
+    }();
+    std::vector<unsigned char> deflated(compressBound(uLong(rows.size())));
+    uLongf deflated_size = uLongf(deflated.size());
+    REQUIRE(compress2(deflated.data(), &deflated_size, reinterpret_cast<const Bytef*>(rows.data()), uLong(rows.size()), 9) == Z_OK);
+    CAPTURE(deflated_size);
+    CHECK(deflated_size < 60000);
+    const auto chunk = [](const std::string& type, const std::string& data) {
+        std::string c;
+        const auto put32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) c += char((v >> (8 * k)) & 255); };
+        put32(std::uint32_t(data.size()));
+        c += type + data;
+        put32(std::uint32_t(crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(c.data() + 4), uInt(c.size() - 4))));
+        return c;
+    };
+    png = std::string("\x89PNG\r\n\x1a\n", 8) +
+          chunk("IHDR", std::string("\x00\x00\x10\x00\x00\x00\x10\x00\x08\x02\x00\x00\x00", 13)) +
+          chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size)) + chunk("IEND", "");
+    r = render_with(png);
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
 }
