@@ -233,58 +233,82 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
     return "";
 }
 
-// stb_image reads a sequential JPEG whose image data ends early as if zeros followed: a
-// 613-byte file whose frame header says 16000 x 16000 took 12 s and 2 GB to become a grey
-// texture. In a sequential Huffman-coded JPEG (SOF0, SOF1) every 8 x 8 block of every
-// component is coded once, as a DC code and at least one AC code (the end of block), each
-// at least 1 bit long: the file holds at least 2 bits per block. Returns the message for a
-// file shorter than that, or "". (A progressive JPEG can code a run of up to 32767 empty
-// blocks in a few bits: no such bound, and it is not checked.)
-std::string short_jpeg(const std::vector<unsigned char>& file) {
+// What texr checks in a JPEG before stb_image reads it, walking its markers as stb_image
+// does (from one segment to the next; from a scan's image data to the first marker after it;
+// before the frame header, over bytes that are no marker):
+// - A Huffman table (DHT) of more than 256 codes: stb_image 2.27 writes that many entries
+//   into its arrays of 256 (a memory error found by fuzzing texr's image loading).
+// - A sequential JPEG shorter than its frame header's size asks for: stb_image reads image
+//   data that ends early as if zeros followed (a 613-byte file whose header says 16000 x
+//   16000 took 12 s and 2 GB to become a grey texture). In a sequential Huffman-coded JPEG
+//   (SOF0, SOF1) every 8 x 8 block of every component is coded once, as a DC code and at
+//   least one AC code (the end of block), each at least 1 bit long: at least 2 bits per
+//   block. (A progressive JPEG can code a run of up to 32767 empty blocks in a few bits: no
+//   such bound, and it is not checked.)
+// Returns the message for such a file, or "".
+std::string jpeg_damage(const std::vector<unsigned char>& file) {
     if (file.size() < 4 || file[0] != 0xff || file[1] != 0xd8) return "";
     std::size_t at = 2;
-    while (at + 4 <= file.size()) {
-        if (file[at] != 0xff) return "";  // not a marker: stb_image will say what is wrong
+    while (at + 2 <= file.size()) {
+        if (file[at] != 0xff) {  // no marker here: move on to the next
+            ++at;
+            continue;
+        }
         const unsigned char marker = file[at + 1];
         if (marker == 0xff) {  // fill byte before a marker
             ++at;
             continue;
         }
-        if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd9)) {  // markers without a segment
-            if (marker == 0xd9 || marker == 0xd8) return "";
+        if (marker == 0xd9) return "";  // end of image
+        if (marker == 0x00 || marker == 0x01 || (marker >= 0xd0 && marker <= 0xd8)) {  // markers without a segment
             at += 2;
             continue;
         }
+        if (at + 4 > file.size()) return "";
         const std::size_t length = std::size_t(file[at + 2]) << 8 | file[at + 3];  // counts its own two bytes
-        if (marker == 0xda) return "";  // image data before any frame header: stb_image refuses it
-        const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
-        if (!frame) {
-            at += 2 + length;
-            continue;
+        const std::size_t end = std::min(file.size(), at + 2 + length);
+        if (marker == 0xc4) {  // DHT: tables of a class/index byte, 16 code counts, the codes' symbols
+            for (std::size_t t = at + 4; t + 17 <= end;) {
+                std::size_t codes = 0;
+                for (std::size_t i = 1; i <= 16; ++i) codes += file[t + i];
+                if (codes > 256)
+                    return "not a readable image: a Huffman table (DHT) of the JPEG defines " + std::to_string(codes) +
+                           " codes, more than the 256 there can be";
+                t += 17 + codes;
+            }
         }
-        if (marker != 0xc0 && marker != 0xc1) return "";  // progressive, lossless or arithmetic-coded
-        if (length < 8 || at + 2 + length > file.size()) return "";
-        const unsigned char* f = file.data() + at + 4;
-        const std::uint64_t height = std::uint64_t(f[1]) << 8 | f[2], width = std::uint64_t(f[3]) << 8 | f[4];
-        const int components = f[5];
-        if (height == 0 || width == 0 || components == 0 || length < 8 + 3 * std::size_t(components)) return "";
-        int h_max = 1, v_max = 1;
-        for (int c = 0; c < components; ++c) h_max = std::max(h_max, f[7 + 3 * c] >> 4), v_max = std::max(v_max, f[7 + 3 * c] & 15);
-        std::uint64_t blocks = 0;
-        for (int c = 0; c < components; ++c) {
-            const int h = f[7 + 3 * c] >> 4, v = f[7 + 3 * c] & 15;
-            if (h == 0 || v == 0) return "";  // refused by stb_image
-            // A component's size: ceil(X h / h_max) x ceil(Y v / v_max) samples, in blocks of 8 x 8.
-            const std::uint64_t columns = (width * std::uint64_t(h) + std::uint64_t(h_max) - 1) / std::uint64_t(h_max);
-            const std::uint64_t rows = (height * std::uint64_t(v) + std::uint64_t(v_max) - 1) / std::uint64_t(v_max);
-            blocks += ((columns + 7) / 8) * ((rows + 7) / 8);
+        if (marker == 0xc0 || marker == 0xc1) {  // a sequential Huffman-coded frame
+            const unsigned char* f = file.data() + at + 4;
+            const int components = length >= 8 && at + 10 <= file.size() ? f[5] : 0;
+            const std::uint64_t height = components ? std::uint64_t(f[1]) << 8 | f[2] : 0, width = components ? std::uint64_t(f[3]) << 8 | f[4] : 0;
+            if (height > 0 && width > 0 && components > 0 && length >= 8 + 3 * std::size_t(components) && at + 2 + length <= file.size()) {
+                int h_max = 1, v_max = 1;
+                bool sampled = true;
+                for (int c = 0; c < components; ++c) {
+                    h_max = std::max(h_max, f[7 + 3 * c] >> 4), v_max = std::max(v_max, f[7 + 3 * c] & 15);
+                    sampled &= (f[7 + 3 * c] >> 4) != 0 && (f[7 + 3 * c] & 15) != 0;  // (else refused by stb_image)
+                }
+                std::uint64_t blocks = 0;
+                for (int c = 0; c < components && sampled; ++c) {
+                    // A component's size: ceil(X h / h_max) x ceil(Y v / v_max) samples, in blocks of 8 x 8.
+                    const std::uint64_t h = std::uint64_t(f[7 + 3 * c] >> 4), v = std::uint64_t(f[7 + 3 * c] & 15);
+                    const std::uint64_t columns = (width * h + std::uint64_t(h_max) - 1) / std::uint64_t(h_max);
+                    const std::uint64_t rows = (height * v + std::uint64_t(v_max) - 1) / std::uint64_t(v_max);
+                    blocks += ((columns + 7) / 8) * ((rows + 7) / 8);
+                }
+                const std::uint64_t needed = (2 * blocks + 7) / 8;
+                if (file.size() < needed)
+                    return "not a readable image: the file is cut short (a " + std::to_string(width) + " x " + std::to_string(height) +
+                           " sequential JPEG needs at least " + std::to_string(needed) + " bytes of image data, the file holds " +
+                           std::to_string(file.size()) + ")";
+            }
         }
-        const std::uint64_t needed = (2 * blocks + 7) / 8;
-        if (file.size() < needed)
-            return "not a readable image: the file is cut short (a " + std::to_string(width) + " x " + std::to_string(height) +
-                   " sequential JPEG needs at least " + std::to_string(needed) + " bytes of image data, the file holds " +
-                   std::to_string(file.size()) + ")";
-        return "";
+        at += 2 + length;
+        if (marker == 0xda) {  // a scan: its image data runs to the first marker other than a restart
+            while (at + 1 < file.size() &&
+                   !(file[at] == 0xff && file[at + 1] != 0x00 && file[at + 1] != 0xff && !(file[at + 1] >= 0xd0 && file[at + 1] <= 0xd7)))
+                ++at;
+        }
     }
     return "";
 }
@@ -302,10 +326,12 @@ std::string cut_short(const char* kind, std::uint64_t width, std::uint64_t heigh
 // a file shorter than that, or "". The header is taken as a TGA only where stb_image's own
 // test would take it as one (a TGA has no signature).
 std::string short_tga(const std::vector<unsigned char>& file) {
-    if (file.size() < 18) return "";
-    const auto u16 = [&](std::size_t at) { return std::uint64_t(file[at]) | std::uint64_t(file[at + 1]) << 8; };
-    const int colour_map = file[1], type = file[2], bits = file[16];
-    const std::uint64_t id_length = file[0], palette_start = u16(3), palette_length = u16(5), palette_bits = file[7];
+    // The header as stb_image reads it: bytes past the end of the file read as 0.
+    unsigned char header[18] = {};
+    std::memcpy(header, file.data(), std::min<std::size_t>(file.size(), 18));
+    const auto u16 = [&](std::size_t at) { return std::uint64_t(header[at]) | std::uint64_t(header[at + 1]) << 8; };
+    const int colour_map = header[1], type = header[2], bits = header[16];
+    const std::uint64_t id_length = header[0], palette_start = u16(3), palette_length = u16(5), palette_bits = header[7];
     const std::uint64_t width = u16(12), height = u16(14);
     const auto one_of = [](int x, std::initializer_list<int> set) { return std::find(set.begin(), set.end(), x) != set.end(); };
     if (colour_map == 1) {
@@ -327,18 +353,20 @@ std::string short_tga(const std::vector<unsigned char>& file) {
 // and three sections of a 4-byte length each, a 2-byte compression code, then for each of
 // the first four channels (stb_image reads no more) every sample, or, run-length coded, a
 // table of 2 bytes per row of every channel and runs of at most 128 samples in 2 bytes or
-// more each. (A header cut short inside its sections reads as compression 0.)
+// more each.
 std::string short_psd(const std::vector<unsigned char>& file) {
-    if (file.size() < 26 || std::memcmp(file.data(), "8BPS", 4) != 0) return "";
-    const auto u16 = [&](std::size_t at) { return std::uint64_t(file[at]) << 8 | std::uint64_t(file[at + 1]); };
+    if (file.size() < 4 || std::memcmp(file.data(), "8BPS", 4) != 0) return "";
+    // Bytes past the end of the file read as 0, as stb_image reads them.
+    const auto byte = [&](std::size_t at) { return at < file.size() ? std::uint64_t(file[at]) : 0; };
+    const auto u16 = [&](std::size_t at) { return byte(at) << 8 | byte(at + 1); };
     const auto u32 = [&](std::size_t at) { return u16(at) << 16 | u16(at + 2); };
     const std::uint64_t channels = u16(12), height = u32(14), width = u32(18), depth = u16(22);
     if (u16(4) != 1 || channels > 16 || height == 0 || width == 0 || height > (1 << 24) || width > (1 << 24) ||
         (depth != 8 && depth != 16) || u16(24) != 3)
         return "";  // refused by stb_image
     std::uint64_t at = 26;
-    for (int section = 0; section < 3; ++section) at += 4 + (at + 4 <= file.size() ? u32(std::size_t(at)) : 0);
-    const std::uint64_t compression = at + 2 <= file.size() ? u16(std::size_t(at)) : 0;
+    for (int section = 0; section < 3; ++section) at += 4 + u32(std::size_t(at));
+    const std::uint64_t compression = u16(std::size_t(at));
     if (compression > 1) return "";  // refused by stb_image
     const std::uint64_t read = std::min<std::uint64_t>(channels, 4), pixels = width * height;
     const std::uint64_t needed = at + 2 + (compression == 1 ? height * channels * 2 + read * ((pixels + 127) / 128) * 2
@@ -444,7 +472,7 @@ stb_decode::Pixels decode(const std::string& path) {
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_png(file); !cut.empty()) throw InputError(path, 0, cut);
-    if (const std::string cut = short_jpeg(file); !cut.empty()) throw InputError(path, 0, cut);
+    if (const std::string damage = jpeg_damage(file); !damage.empty()) throw InputError(path, 0, damage);
     if (const std::string cut = short_tga(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_psd(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
