@@ -29,6 +29,15 @@ const std::string good_scene =
     "material red color 1 0 0\n"
     "triangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
 
+// Writes `bytes` to dir/name and renders good_scene with a quad textured by it into
+// dir/out.png (a run over 60 s fails: a hang is an error).
+RunResult render_texture_file(const std::string& dir, const std::string& name, const std::string& bytes) {
+    std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+    write_text(dir + "/scene.txt", "texture t file " + name + "\nmaterial m texture t\n"
+                                   "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
+    return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
+}
+
 struct Case {
     std::string scene;
     std::string expected_message;
@@ -1235,10 +1244,7 @@ TEST_CASE("a sequential JPEG whose header asks for more blocks than its data cou
     const auto with_size = [&](int width, int height) {
         std::string j = jpeg;
         j[sof + 5] = char(height >> 8), j[sof + 6] = char(height & 255), j[sof + 7] = char(width >> 8), j[sof + 8] = char(width & 255);
-        std::ofstream(dir + "/t.jpg", std::ios::binary) << j;
-        write_text(dir + "/scene.txt", "texture t file t.jpg\nmaterial m texture t\n"
-                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
-        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
+        return render_texture_file(dir, "t.jpg", j);
     };
     const std::string file_bytes = std::to_string(jpeg.size());
     // 16000 x 16000: 1000 x 1000 MCUs of 6 blocks, 12e6 bits: 1500000 bytes.
@@ -1273,12 +1279,7 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused before stb_ima
     std::string jpeg;
     REQUIRE(stbi_write_jpg_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
                                    &jpeg, 8, 8, 3, rgb, 90));
-    const auto render_with = [&](const std::string& bytes) {
-        std::ofstream(dir + "/t.jpg", std::ios::binary) << bytes;
-        write_text(dir + "/scene.txt", "texture t file t.jpg\nmaterial m texture t\n"
-                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
-        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
-    };
+    const auto render_with = [&](const std::string& bytes) { return render_texture_file(dir, "t.jpg", bytes); };
     RunResult r = render_with(jpeg);
     CHECK(r.exit_code == 0);
     std::remove((dir + "/out.png").c_str());
@@ -1305,12 +1306,7 @@ TEST_CASE("a PNG whose image data cannot hold its header's size is refused befor
                                        &png, w, h, 3, rgb.data(), w * 3));
         return png;
     };
-    const auto render_with = [&](const std::string& png) {
-        std::ofstream(dir + "/t.png", std::ios::binary) << png;
-        write_text(dir + "/scene.txt", "texture t file t.png\nmaterial m texture t\n"
-                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
-        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
-    };
+    const auto render_with = [&](const std::string& png) { return render_texture_file(dir, "t.png", png); };
     std::vector<unsigned char> rgb(4 * 4 * 3);
     for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<unsigned char>(71 * i);
     std::string png = write_png(4, 4, rgb);
@@ -1396,12 +1392,7 @@ TEST_CASE("a TGA or Photoshop file shorter than its header asks for is refused b
          bytes_of(psd_start + "00003e80" "00003e80" "0008" "0003" "00000000" "00000000" "00000000" "0001" "fd1e"), 12096040,
          "run-length Photoshop image"},
     };
-    const auto render_with = [&](const std::string& name, const std::string& bytes) {
-        std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
-        write_text(dir + "/scene.txt", "texture t file " + name + "\nmaterial m texture t\n"
-                                       "quad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n" + good_scene);
-        return run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 60);
-    };
+    const auto render_with = [&](const std::string& name, const std::string& bytes) { return render_texture_file(dir, name, bytes); };
     for (const File& f : files) {
         CAPTURE(f.name);
         // Whole: it reads, every texel (30, 20, 10) / 255 (TGA stores blue first).
