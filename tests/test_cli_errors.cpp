@@ -887,9 +887,11 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {triangle + "vt 0 0\nf 1/1 2/1 3/9\n", "bad.obj:5: ", "texture coordinate (vt) that does not exist"},
         {"f 1 2 9\n" + triangle, "bad.obj:1: ", "vertex that does not exist (9)"},  // (ahead of the vertices, and past them)
         {"v 0 0 1e400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "finite"},
-        // finite as a double, not as the float a position or normal is kept in
+        // finite as a double, not as the float a position, normal or texture coordinate is kept
+        // in (tinyobjloader reads floats: vt 1e39 became infinity, and every u NaN)
         {"v 0 0 1e39\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "beyond a float's range"},
         {triangle + "vn 0 -4e38 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "beyond a float's range"},
+        {triangle + "vt 0 0\nvt 1 0\nvt 1e39 0\nf 1/1 2/2 3/3\n", "bad.obj:6: ", "'1e39' is beyond a float's range"},
     };
     for (const Case& c : cases) {
         write_text(dir + "/bad.obj", c.obj);
@@ -908,7 +910,7 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
     // to 0, a UTF-8 byte order mark.
     for (const std::string& good : std::vector<std::string>{triangle + "f -3 -2 -1\n", "f 1 2 3\n" + triangle, "v 0 0 0#c\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
                                    "v 0 0 1e-400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", triangle + "f 1 2 3 # a comment\n",
-                                   "v 0 0 3e38\nv 1 0 0\nv 0 1 0\nvt 1e300 0\nf 1/1 2/1 3/1\n",
+                                   "v 0 0 3e38\nv 1 0 0\nv 0 1 0\nvt 3e38 0\nf 1/1 2/1 3/1\n",
                                    "\xEF\xBB\xBF" + triangle + "f 1 2 3\n"}) {
         write_text(dir + "/good.obj", good);
         write_text(dir + "/scene.txt", "size 16 16\nmesh good.obj\n");

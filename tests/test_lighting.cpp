@@ -9,6 +9,7 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <stb_image_write.h>
 
 #include "helpers.h"
 #include "texr/core/color.h"
@@ -173,5 +174,50 @@ TEST_CASE("Lambert with normals that vary over a triangle seen at an angle: pers
         // Vertex snapping (1/256 pixel) moves P by a little; the normal changes slowly.
         CHECK(worst < 1e-3);
         MESSAGE("largest difference from the surface's own normal: ", worst, " over ", checked, " pixels");
+    }
+}
+
+TEST_CASE("Lambert at extreme scales: directions of 1e300 and 1e-300, objects scaled by 1e-110 and 1e150") {
+    // A floor of unit normals lit along (0, -1, -1) at any length: ambient + 1 / sqrt 2
+    // (squared lengths of 1e600 and 1e-600 overflowed and underflowed: no light, or NaN).
+    const double expected = ambient + 1.0 / std::sqrt(2.0);
+    const std::string floor = "quad material white v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1";
+    const std::string materials = "ambient 0.5 0.5 0.5\nmaterial white color 1 1 1 lighting lambert\n";
+    for (const char* light : {"0 -1e300 -1e300", "0 -1e-300 -1e-300"}) {
+        CAPTURE(light);
+        const Framebuffer fb = render_text(camera + materials + floor + "\nlight directional " + light + " color 1 1 1\n");
+        CHECK(fb.color[fb.index(16, 16)].x == doctest::Approx(expected).epsilon(1e-5));
+    }
+    // The floor scaled by s (and rotated about an axis of length 1e300: a quarter turn about
+    // y changes nothing of a square floor), seen from s times as far: the same picture. Its
+    // normals come from the inverse transpose of a matrix whose entries are s, which overflowed
+    // or underflowed before.
+    for (const double s : {1e-110, 1e150}) {
+        CAPTURE(s);
+        char text[512];
+        std::snprintf(text, sizeof text,
+                      "size 32 32\ncamera eye 0 %.17g 0 target 0 0 0 up 0 0 -1e-300 fov 90 near %.17g far %.17g\n%s%s scale %.17g "
+                      "rotate 90 0 1e300 0\nlight directional 0 -1 -1 color 1 1 1\n",
+                      3.0 * s, 0.1 * s, 100.0 * s, materials.c_str(), floor.c_str(), s);
+        const Framebuffer fb = render_text(text);
+        for (const int at : {0, 16, 31}) CHECK(fb.color[fb.index(at, at)].x == doctest::Approx(expected).epsilon(1e-5));
+    }
+}
+
+TEST_CASE("an infinite lit colour times no light is written as 0, not NaN") {
+    // A float texel of 1e38 times a material colour of 10000 is infinite; lambert with no
+    // light and no ambient multiplies it by 0 (NaN in IEEE arithmetic).
+    const std::string dir = testing::scratch_folder("inf-times-zero");
+    const float texel[3] = {1e38f, 1e38f, 1e38f};
+    REQUIRE(stbi_write_hdr((dir + "/bright.hdr").c_str(), 1, 1, 3, texel));
+    const std::string text = camera + "texture t file " + dir + "/bright.hdr filter nearest\n"
+                             "material m texture t color 10000 10000 10000 lighting lambert\n"
+                             "quad material m v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1\n";
+    const Framebuffer fb = render_text(text);
+    for (const int at : {0, 16, 31}) {
+        const Color c = fb.color[fb.index(at, at)];
+        CHECK(c.x == 0.0f);
+        CHECK(c.y == 0.0f);
+        CHECK(c.z == 0.0f);
     }
 }

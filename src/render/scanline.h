@@ -94,7 +94,9 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
         c *= irradiance;
     }
     (void)texel, (void)normal, (void)color, (void)world;
-    return c;
+    // An infinite texel (a float HDR texel times a bright material) times no light is NaN;
+    // such a pixel is written as 0, the limit of its light, not as NaN.
+    return {c.x == c.x ? c.x : 0.0f, c.y == c.y ? c.y : 0.0f, c.z == c.z ? c.z : 0.0f};
 }
 
 // The ground truth for texture filtering: spp x spp stratified sub-pixel positions, each

@@ -54,7 +54,21 @@ struct TransformedMesh {
 void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_projection, const GuardBand& band,
                std::size_t first, std::size_t last, TransformedMesh& v) {
     const glm::dmat4 to_clip = view_projection * object.transform;
-    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(object.transform)));
+    // The inverse transpose of the object's 3x3 part, worked out on that part times the power
+    // of two that brings its largest entry into [1, 2): normals are only directions (they are
+    // normalised per pixel), the scaling is exact, and a uniform scale of 1e-110 or 1e150 no
+    // longer overflows or underflows the inverse (it made every normal NaN).
+    glm::dmat3 linear(object.transform);
+    double largest = 0.0;
+    for (int col = 0; col < 3; ++col)
+        for (int row = 0; row < 3; ++row) largest = std::max(largest, std::fabs(linear[col][row]));
+    if (largest > 0.0 && std::isfinite(largest)) {
+        int exponent = 0;
+        std::frexp(largest, &exponent);
+        for (int col = 0; col < 3; ++col)
+            for (int row = 0; row < 3; ++row) linear[col][row] = std::ldexp(linear[col][row], 1 - exponent);
+    }
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
     for (std::size_t i = first; i < last; ++i) {
         const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);
         v.clip[i] = to_clip * p;

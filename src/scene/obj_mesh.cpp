@@ -196,8 +196,8 @@ ObjLines read_obj_lines(const std::string& path) {
                 const std::optional<double> value = number_in(word);
                 if (!value) fail("expected a number after '" + std::string(keyword) + "', got '" + std::string(word) + "'");
                 if (!std::isfinite(*value)) fail("expected a finite number, got '" + std::string(word) + "'");
-                // Positions and normals are kept as floats (texture coordinates as doubles).
-                if (keyword != "vt" && !(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
+                // tinyobjloader keeps positions, normals and texture coordinates as floats.
+                if (!(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
                     fail("'" + std::string(word) + "' is beyond a float's range (about 3.4e38)");
             }
             if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");

@@ -21,6 +21,18 @@ namespace texr {
 
 namespace {
 
+// v times the power of two that brings its largest component into [1, 2): the same direction,
+// and glm::normalize gives the same bits for it (every step scales exactly), but its squared
+// length neither overflows nor underflows (a light direction of 1e300, an up of 1e-300).
+// The zero vector stays zero.
+glm::dvec3 direction_scaled(const glm::dvec3& v) {
+    const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    if (!(largest > 0.0) || !std::isfinite(largest)) return v;
+    int exponent = 0;
+    std::frexp(largest, &exponent);  // largest = m 2^exponent, m in [1/2, 1)
+    return glm::dvec3(std::ldexp(v.x, 1 - exponent), std::ldexp(v.y, 1 - exponent), std::ldexp(v.z, 1 - exponent));
+}
+
 // --- Tokens of one logical line ------------------------------------------------------------
 struct Line {
     int number = 0;  // where the command starts
@@ -242,7 +254,7 @@ private:
             const std::string key = c.word("a camera option");
             if (key == "eye") cam.eye = c.vec3("eye"), view_at = c.mark();
             else if (key == "target") cam.target = c.vec3("target"), view_at = c.mark();
-            else if (key == "up") cam.up = c.vec3("up"), up_at = c.mark();
+            else if (key == "up") cam.up = direction_scaled(c.vec3("up")), up_at = c.mark();
             else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees"), fov_at = c.mark();
             else if (key == "near") cam.near = c.number("the near distance"), near_at = c.mark();
             else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
@@ -253,8 +265,12 @@ private:
         if (!(cam.near > 0.0)) c.fail_at(near_at, "camera needs 0 < near < far");
         if (!(cam.far > cam.near)) c.fail_at(std::max(near_at, far_at), "camera needs 0 < near < far");
         const glm::dvec3 view = cam.target - cam.eye;
-        if (glm::length(view) == 0.0) c.fail_at(view_at, "camera eye and target must differ");
-        if (glm::length(glm::cross(view, cam.up)) == 0.0)  // at `up` when it was given (the message names it)
+        if (view == glm::dvec3(0.0)) c.fail_at(view_at, "camera eye and target must differ");
+        // The view direction is normalised from target - eye itself (glm::lookAtRH).
+        if (!(glm::length(view) > 0.0 && std::isfinite(glm::length(view))))
+            c.fail_at(view_at, "camera eye and target are too close together or too far apart for a view direction (their "
+                               "distance squared is beyond a double's range)");
+        if (glm::length(glm::cross(direction_scaled(view), cam.up)) == 0.0)  // at `up` when it was given (the message names it)
             c.fail_at(up_at != 0 ? up_at : view_at, "camera up must not be parallel to the view direction");
     }
 
@@ -377,8 +393,8 @@ private:
         l.kind = choose<Light::Kind>(c, "light kind", {{"directional", Light::Kind::directional}, {"point", Light::Kind::point}});
         l.vector = c.vec3(l.kind == Light::Kind::directional ? "the light direction" : "the light position");
         if (l.kind == Light::Kind::directional) {
-            if (glm::length(l.vector) == 0.0) c.fail("light direction must not be zero");
-            l.vector = glm::normalize(l.vector);
+            if (l.vector == glm::dvec3(0.0)) c.fail("light direction must not be zero");
+            l.vector = glm::normalize(direction_scaled(l.vector));
         }
         while (!c.done()) {
             const std::string key = c.word("a light option");
@@ -414,8 +430,8 @@ private:
         else if (key == "rotate") {
             const double degrees = c.number("the rotation angle in degrees");
             const glm::dvec3 axis = c.vec3("the rotation axis");
-            if (glm::length(axis) == 0.0) c.fail("rotation axis must not be zero");
-            object.transform = glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(axis)) * object.transform;
+            if (axis == glm::dvec3(0.0)) c.fail("rotation axis must not be zero");
+            object.transform = glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(direction_scaled(axis))) * object.transform;
         } else if (key == "scale") {
             glm::dvec3 s(c.number("a scale factor"));
             if (c.next_is_number()) { s.y = c.number("3 scale factors"); s.z = c.number("3 scale factors"); }
