@@ -1426,6 +1426,10 @@ TEST_CASE("a TGA or Photoshop file shorter than its header asks for is refused b
         }
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
+    // An empty file (the header checks read no byte of it: UBSan saw a null pointer there).
+    const RunResult r = render_with("empty.tga", "");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("empty.tga: not a readable image: not a format stb_image reads") != std::string::npos);
 }
 
 TEST_CASE("a texture read from a pipe renders as the same file does") {

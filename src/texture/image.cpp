@@ -328,7 +328,7 @@ std::string cut_short(const char* kind, std::uint64_t width, std::uint64_t heigh
 std::string short_tga(const std::vector<unsigned char>& file) {
     // The header as stb_image reads it: bytes past the end of the file read as 0.
     unsigned char header[18] = {};
-    std::memcpy(header, file.data(), std::min<std::size_t>(file.size(), 18));
+    if (!file.empty()) std::memcpy(header, file.data(), std::min<std::size_t>(file.size(), 18));
     const auto u16 = [&](std::size_t at) { return std::uint64_t(header[at]) | std::uint64_t(header[at + 1]) << 8; };
     const int colour_map = header[1], type = header[2], bits = header[16];
     const std::uint64_t id_length = header[0], palette_start = u16(3), palette_length = u16(5), palette_bits = header[7];
