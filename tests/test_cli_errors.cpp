@@ -1427,9 +1427,15 @@ TEST_CASE("a TGA or Photoshop file shorter than its header asks for is refused b
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
     // An empty file (the header checks read no byte of it: UBSan saw a null pointer there).
-    const RunResult r = render_with("empty.tga", "");
+    RunResult r = render_with("empty.tga", "");
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("empty.tga: not a readable image: not a format stb_image reads") != std::string::npos);
+    // A Photoshop header of no channels (the channel count, bytes 12 and 13, set to 0).
+    std::string none = files[2].whole;
+    none[12] = none[13] = 0;
+    r = render_with("none.psd", none);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("none.psd: not a readable image: the Photoshop image has no channels") != std::string::npos);
 }
 
 TEST_CASE("a texture read from a pipe renders as the same file does") {

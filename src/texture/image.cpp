@@ -364,6 +364,9 @@ std::string short_psd(const std::vector<unsigned char>& file) {
     if (u16(4) != 1 || channels > 16 || height == 0 || width == 0 || height > (1 << 24) || width > (1 << 24) ||
         (depth != 8 && depth != 16) || u16(24) != 3)
         return "";  // refused by stb_image
+    // (stb_image reads a file of no channels as an image of black: 1 GB from a 56-byte file
+    // whose header says 16000 x 16000, found by fuzzing)
+    if (channels == 0) return "not a readable image: the Photoshop image has no channels";
     std::uint64_t at = 26;
     for (int section = 0; section < 3; ++section) at += 4 + u32(std::size_t(at));
     const std::uint64_t compression = u16(std::size_t(at));
