@@ -28,6 +28,11 @@ TEST_CASE("plot ticks: 1, 2 and 5 times powers of ten, at most eight on a log ax
     check_ticks(axis_ticks(15.0, 41.0, false), {15, 20, 25, 30, 35, 40});
     check_ticks(axis_ticks(0.0, 1.0, false), {0, 0.2, 0.4, 0.6, 0.8, 1.0});
     CHECK(axis_ticks(2.0, 1.0, false).empty());
+    // No ticks where none can be told apart or counted (these looped for ever or overflowed
+    // an int: found in review).
+    CHECK(axis_ticks(0.0, 1.0, true).empty());
+    CHECK(axis_ticks(1.0, INFINITY, true).empty());
+    CHECK(axis_ticks(1e17, 1e17 + 32, false).empty());
 }
 
 TEST_CASE("plot tick texts are short: plain between 1e-3 and 1e5, powers of ten beyond") {
@@ -97,4 +102,20 @@ TEST_CASE("plot labels overlap no other label or point and stay inside the plot"
         const double dx = std::max({labels[i].x0 - cx, cx - labels[i].x1, 0.0}), dy = std::max({labels[i].y0 - cy, cy - labels[i].y1, 0.0});
         CHECK(std::hypot(dx, dy) <= 60.0);
     }
+}
+
+TEST_CASE("plots of a 0 on a log axis, or of values a few roundings apart, are drawn") {
+    // A maximum error of 0 sits at 1e-300 on a log axis; the axis stops there (it ran past
+    // where 10^x is a double, and the ticks looped for ever).
+    PlotAxes axes;
+    axes.title = "t", axes.x_label = "x", axes.y_label = "y", axes.log_y = true;
+    axes.marks = {{INFINITY, "inf"}, {0.0, "zero"}, {1.0 / 64.0, "tolerance"}};
+    std::string svg = scatter_svg(axes, {{"a", "zero", 1.0, 0.0}, {"a", "one", 2.0, 1.0}});
+    CHECK(svg.find("</svg>") != std::string::npos);
+    CHECK(svg.find(">tolerance<") != std::string::npos);
+    CHECK(svg.find(">inf<") == std::string::npos);
+    CHECK(svg.find("nan") == std::string::npos);
+    axes.log_y = false;
+    svg = scatter_svg(axes, {{"a", "p", 1.0, 1e17}, {"a", "q", 2.0, 1e17 + 16}});
+    CHECK(svg.find("</svg>") != std::string::npos);
 }

@@ -47,7 +47,7 @@ Box label_box(const std::string& text, double x, double y, int anchor) {
 
 std::vector<double> axis_ticks(double lo, double hi, bool log) {
     std::vector<double> ticks;
-    if (!(lo < hi)) return ticks;
+    if (!(lo < hi) || !std::isfinite(lo) || !std::isfinite(hi) || (log && !(lo > 0.0))) return ticks;
     if (!log) {
         const double raw = (hi - lo) / 6.0, magnitude = std::pow(10.0, std::floor(std::log10(raw)));
         double step = 10.0 * magnitude;
@@ -56,7 +56,10 @@ std::vector<double> axis_ticks(double lo, double hi, bool log) {
                 step = m * magnitude;
                 break;
             }
-        for (double k = std::ceil(lo / step); k * step <= hi * (1.0 + 1e-12); k += 1.0) ticks.push_back(k * step == 0.0 ? 0.0 : k * step);
+        // (at most a dozen; a range a few roundings wide at a large value gives none)
+        const double first = std::ceil(lo / step), count = std::floor(hi * (1.0 + 1e-12) / step) - first;
+        if (!(count >= 0.0 && count <= 12.0)) return ticks;
+        for (int k = 0; k <= int(count); ++k) ticks.push_back((first + k) * step == 0.0 ? 0.0 : (first + k) * step);
         return ticks;
     }
     const int first = int(std::floor(std::log10(lo))), last = int(std::ceil(std::log10(hi)));
@@ -101,13 +104,18 @@ std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& poin
         x0 = std::min(x0, fx(p.x)), x1 = std::max(x1, fx(p.x));
         y0 = std::min(y0, fy(p.y)), y1 = std::max(y1, fy(p.y));
     }
-    for (const PlotMark& m : axes.marks) y0 = std::min(y0, fy(m.y)), y1 = std::max(y1, fy(m.y));
+    const auto mark_shown = [&](const PlotMark& m) { return std::isfinite(m.y) && (!axes.log_y || m.y > 0.0); };
+    for (const PlotMark& m : axes.marks)
+        if (mark_shown(m)) y0 = std::min(y0, fy(m.y)), y1 = std::max(y1, fy(m.y));
     if (x0 > x1) x0 = 0, x1 = 1;
     if (y0 > y1) y0 = 0, y1 = 1;
     // Margins: 5% of the range each side (on a log axis a quarter of a decade at least, so
     // that a single value still gets ticks either side).
     const double xpad = std::max(0.05 * (x1 - x0), axes.log_x ? 0.25 : 0.05), ypad = std::max(0.08 * (y1 - y0), axes.log_y ? 0.25 : 0.5);
     x0 -= xpad, x1 += xpad, y0 -= ypad, y1 += ypad;
+    // (a log axis reaching 1e-300, where values of 0 are put, stays where 10^x is a double)
+    if (axes.log_x) x0 = std::max(x0, -300.0);
+    if (axes.log_y) y0 = std::max(y0, -300.0);
     const double plot_w = width - left - right, plot_h = height - top - bottom;
     const auto px = [&](double axis) { return left + (axis - x0) / (x1 - x0) * plot_w; };  // axis units -> pixels
     const auto py = [&](double axis) { return top + (y1 - axis) / (y1 - y0) * plot_h; };
@@ -145,6 +153,7 @@ std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& poin
     for (const auto& p : points)
         if (shown(p)) taken.push_back({sx(p.x) - 6, sy(p.y) - 6, sx(p.x) + 6, sy(p.y) + 6});
     for (const PlotMark& m : axes.marks) {
+        if (!mark_shown(m)) continue;
         const double y = sy(m.y);
         svg += "<line x1=\"" + coordinate(left) + "\" x2=\"" + coordinate(left + plot_w) + "\" y1=\"" + coordinate(y) + "\" y2=\"" +
                coordinate(y) + "\" stroke=\"#555\" stroke-dasharray=\"6 4\"/>\n";

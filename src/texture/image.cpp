@@ -266,11 +266,13 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
         }
         if (at + 4 > file.size()) return "";
         const std::size_t length = std::size_t(file[at + 2]) << 8 | file[at + 3];  // counts its own two bytes
-        const std::size_t end = std::min(file.size(), at + 2 + length);
         if (marker == 0xc4) {  // DHT: tables of a class/index byte, 16 code counts, the codes' symbols
-            for (std::size_t t = at + 4; t + 17 <= end;) {
+            // stb_image reads tables while the segment's stated length lasts, and bytes past the
+            // end of the file as 0: so does this check.
+            const auto byte = [&](std::size_t i) { return i < file.size() ? std::size_t(file[i]) : std::size_t(0); };
+            for (std::size_t t = at + 4; t < at + 2 + length;) {
                 std::size_t codes = 0;
-                for (std::size_t i = 1; i <= 16; ++i) codes += file[t + i];
+                for (std::size_t i = 1; i <= 16; ++i) codes += byte(t + i);
                 if (codes > 256)
                     return "not a readable image: a Huffman table (DHT) of the JPEG defines " + std::to_string(codes) +
                            " codes, more than the 256 there can be";
