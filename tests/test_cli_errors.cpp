@@ -29,6 +29,18 @@ const std::string good_scene =
     "material red color 1 0 0\n"
     "triangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
 
+// stb_image_write's callback that appends what it writes to the std::string `out`.
+void append_to_string(void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); }
+
+// An 8 x 8 JPEG from stb_image_write at quality 90 (4:2:0), its bytes k * step.
+std::string small_jpeg(unsigned step) {
+    unsigned char rgb[8 * 8 * 3];
+    for (std::size_t i = 0; i < sizeof rgb; ++i) rgb[i] = static_cast<unsigned char>(step * i);
+    std::string jpeg;
+    REQUIRE(stbi_write_jpg_to_func(append_to_string, &jpeg, 8, 8, 3, rgb, 90));
+    return jpeg;
+}
+
 // Writes `bytes` to dir/name and renders good_scene with a quad textured by it into
 // dir/out.png (a run over 60 s fails: a hang is an error).
 RunResult render_texture_file(const std::string& dir, const std::string& name, const std::string& bytes) {
@@ -1196,7 +1208,7 @@ TEST_CASE("an uncompressed BMP shorter than its header says is refused, one with
     const std::string dir = scratch_folder("bmp-short");
     const unsigned char rgb[3 * 2 * 3] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30, 40, 50, 60, 70, 80, 90};
     std::string bmp;
-    stbi_write_bmp_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
+    stbi_write_bmp_to_func(append_to_string,
                            &bmp, 3, 2, 3, rgb);
     REQUIRE(bmp.size() == 78);
     const std::string quad = "material m texture t\nquad material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n";
@@ -1230,11 +1242,7 @@ TEST_CASE("a sequential JPEG whose header asks for more blocks than its data cou
     // stb_image read such a file as if zeros followed (613 bytes claiming 16000 x 16000
     // took 12 s and 2 GB).
     const std::string dir = scratch_folder("jpeg-short");
-    unsigned char rgb[8 * 8 * 3];
-    for (std::size_t i = 0; i < sizeof rgb; ++i) rgb[i] = static_cast<unsigned char>(37 * i);
-    std::string jpeg;
-    REQUIRE(stbi_write_jpg_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
-                                   &jpeg, 8, 8, 3, rgb, 90));
+    std::string jpeg = small_jpeg(37);
     // The frame header: FF C0, length 17, precision 8, height, width, 3 components: Y sampled
     // 2 x 2, Cb and Cr 1 x 1.
     const std::size_t sof = jpeg.find("\xff\xc0");
@@ -1276,11 +1284,7 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused before stb_ima
     // without checking the count (UBSan: index 257 out of bounds; found by fuzzing texr's image
     // loading). The first DHT table of stb_image_write's JPEG gets counts 0 x 14, 255, 45: 300.
     const std::string dir = scratch_folder("jpeg-dht");
-    unsigned char rgb[8 * 8 * 3];
-    for (std::size_t i = 0; i < sizeof rgb; ++i) rgb[i] = static_cast<unsigned char>(53 * i);
-    std::string jpeg;
-    REQUIRE(stbi_write_jpg_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
-                                   &jpeg, 8, 8, 3, rgb, 90));
+    std::string jpeg = small_jpeg(53);
     const auto render_with = [&](const std::string& bytes) { return render_texture_file(dir, "t.jpg", bytes); };
     RunResult r = render_with(jpeg);
     CHECK(r.exit_code == 0);
@@ -1310,7 +1314,7 @@ TEST_CASE("a PNG whose image data cannot hold its header's size is refused befor
     const std::string dir = scratch_folder("png-short");
     const auto write_png = [&](int w, int h, const std::vector<unsigned char>& rgb) {
         std::string png;
-        REQUIRE(stbi_write_png_to_func([](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), std::size_t(size)); },
+        REQUIRE(stbi_write_png_to_func(append_to_string,
                                        &png, w, h, 3, rgb.data(), w * 3));
         return png;
     };
