@@ -6,6 +6,8 @@
 #                     tests built with ThreadSanitizer, then a short libFuzzer run of the
 #                     scene parser and the OBJ path (TEXR_FUZZ_SECONDS, default 20)
 #   ./build.sh bench  install what is missing, build (Release), run texr bench
+#   ./build.sh fuzz-images [SECONDS]  fuzz image loading and mip building (default 600 s);
+#                     not part of `test`: see README, "Fuzzing"
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -69,6 +71,19 @@ fuzz() {
     echo "fuzzing: no crash"
 }
 
+# fuzz_images SECONDS: image files through stb_image, texr's checks before it, and the mip
+# levels; finds are written to build-fuzz/ as crash-* files, new inputs to a scratch folder.
+fuzz_images() {
+    echo "== fuzzing image loading, $1 s"
+    CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_FUZZ=ON -DBUILD_TESTING=OFF >/dev/null
+    cmake --build build-fuzz -j "$(nproc)" --target texr_fuzz_image
+    local scratch
+    scratch="$(mktemp -d)"
+    (cd build-fuzz && ./texr_fuzz_image -max_total_time="$1" -max_len=65536 -rss_limit_mb=4096 -timeout=20 \
+        -print_final_stats=1 "$scratch" ../tests/fuzz/corpus/image)
+    rm -rf "$scratch"
+}
+
 case "${1:-}" in
     demo)
         install_missing "${packages[@]}"
@@ -84,6 +99,10 @@ case "${1:-}" in
         threaded_tests
         fuzz
         ;;
+    fuzz-images)
+        install_missing "${packages[@]}" "${test_packages[@]}"
+        fuzz_images "${2:-600}"
+        ;;
     bench)
         install_missing "${packages[@]}"
         build texr
@@ -91,7 +110,7 @@ case "${1:-}" in
         ./build/texr bench "$@"
         ;;
     *)
-        echo "usage: ./build.sh demo | test | bench" >&2
+        echo "usage: ./build.sh demo | test | bench [ARGS] | fuzz-images [SECONDS]" >&2
         exit 2
         ;;
 esac

@@ -1308,6 +1308,44 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused before stb_ima
     CHECK(r.output.find("defines 4080 codes, more than the 256 there can be") != std::string::npos);
 }
 
+TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is refused") {
+    // stb_image reads such a table from memory it never set and indexed its 256 symbols at
+    // 665 (UBSan; found by fuzzing texr's image loading). The two files are the image fuzz
+    // seeds base.jpg (sequential) and prog.jpg (progressive); their layouts, from a marker
+    // dump: base.jpg defines DC 0, AC 0, DC 1 and AC 1 (class/index bytes at 0xb5, 0xce, 0xf7,
+    // 0x10f), then one scan of components 1 (DC 0, AC 0), 2 and 3 (DC 1, AC 1). prog.jpg's
+    // first scan to read AC 1 (component 3, Ss = 1) follows the table at 0x13e that defines it.
+    const std::string dir = scratch_folder("jpeg-undefined-table");
+    const std::string base = read_file(source_path("tests/fuzz/corpus/image/base.jpg"));
+    const std::string prog = read_file(source_path("tests/fuzz/corpus/image/prog.jpg"));
+    REQUIRE(base.size() > 0x130);
+    REQUIRE(prog.size() > 0x160);
+    const auto redefined = [](std::string jpeg, std::size_t at, unsigned char was, unsigned char now) {
+        REQUIRE(static_cast<unsigned char>(jpeg[at]) == was);
+        jpeg[at] = static_cast<char>(now);
+        return jpeg;
+    };
+    struct Damage {
+        const std::string* jpeg;
+        std::size_t at;
+        unsigned char was, now;
+        std::string table;
+    };
+    for (const Damage& d : {Damage{&base, 0xf7, 0x01, 0x02, "DC 1"}, Damage{&base, 0x10f, 0x11, 0x13, "AC 1"},
+                            Damage{&prog, 0x13e, 0x11, 0x12, "AC 1"}}) {
+        CAPTURE(d.at);
+        RunResult r = render_texture_file(dir, "t.jpg", *d.jpeg);
+        CHECK(r.exit_code == 0);
+        std::remove((dir + "/out.png").c_str());
+        r = render_texture_file(dir, "t.jpg", redefined(*d.jpeg, d.at, d.was, d.now));
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("t.jpg: not a readable image: a scan of the JPEG decodes with Huffman table " + d.table +
+                            ", which no table (DHT) before it defines") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+}
+
 TEST_CASE("a PNG whose image data cannot hold its header's size is refused before it is decoded") {
     // Deflate packs at most 1032 bytes into one. stb_image set aside and filled the whole
     // image before finding too few pixels (1077 bytes claiming 16000 x 16000: 3.7 s, 1.7 GB).

@@ -11,6 +11,8 @@
 #include <initializer_list>
 #include <limits>
 #include <memory>
+#include <tuple>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -238,6 +240,12 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
 // before the frame header, over bytes that are no marker):
 // - A Huffman table (DHT) of more than 256 codes: stb_image 2.27 writes that many entries
 //   into its arrays of 256 (a memory error found by fuzzing texr's image loading).
+// - A scan that decodes with a Huffman table no DHT before it defines (as a motion-JPEG frame
+//   relying on the standard's example tables would): stb_image reads the table from memory it
+//   never set, and may index its arrays of 256 with the result (index 665, found by fuzzing).
+//   A sequential scan reads the DC and AC tables of each of its components; a progressive
+//   scan its components' DC tables when it codes first DC values (Ss = 0, Ah = 0), its one
+//   component's AC table when it codes AC values (Ss > 0), and none when it refines DC values.
 // - A sequential JPEG shorter than its frame header's size asks for: stb_image reads image
 //   data that ends early as if zeros followed (a 613-byte file whose header says 16000 x
 //   16000 took 12 s and 2 GB to become a grey texture). In a sequential Huffman-coded JPEG
@@ -249,6 +257,9 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
 std::string jpeg_damage(const std::vector<unsigned char>& file) {
     if (file.size() < 4 || file[0] != 0xff || file[1] != 0xd8) return "";
     std::size_t at = 2;
+    bool defined[2][4] = {};  // Huffman tables defined so far: [DC, AC][index]
+    int frame = 0;            // the frame header's marker once read: 0xc0, 0xc1 (sequential) or 0xc2 (progressive)
+    std::vector<int> frame_ids;  // its components' identifiers
     while (at + 2 <= file.size()) {
         if (file[at] != 0xff) {  // no marker here: move on to the next
             ++at;
@@ -276,7 +287,29 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
                 if (codes > 256)
                     return "not a readable image: a Huffman table (DHT) of the JPEG defines " + std::to_string(codes) +
                            " codes, more than the 256 there can be";
+                if (const std::size_t kind = byte(t) >> 4, index = byte(t) & 15; kind <= 1 && index <= 3) defined[kind][index] = true;
                 t += 17 + codes;
+            }
+        }
+        if ((marker == 0xc0 || marker == 0xc1 || marker == 0xc2) && frame == 0 && length >= 8 && at + 10 <= file.size()) {
+            frame = marker;
+            for (std::size_t c = 0; c < file[at + 9] && at + 10 + 3 * c < file.size(); ++c) frame_ids.push_back(file[at + 10 + 3 * c]);
+        }
+        if (marker == 0xda && frame != 0 && at + 5 <= file.size()) {  // a scan's header: its components' tables, then Ss, Se, Ah/Al
+            const std::size_t n = file[at + 4];
+            const unsigned char* f = file.data() + at + 5;
+            if (length == 6 + 2 * n && at + 5 + 2 * n + 3 <= file.size()) {
+                const int ss = f[2 * n], se = f[2 * n + 1], ah = f[2 * n + 2] >> 4;
+                const bool sequential = frame != 0xc2;
+                const bool dc = sequential || (ss == 0 && se == 0 && ah == 0), ac = sequential || (ss > 0 && n == 1);
+                for (std::size_t c = 0; c < n; ++c) {
+                    if (std::find(frame_ids.begin(), frame_ids.end(), f[2 * c]) == frame_ids.end()) continue;  // (refused by stb_image)
+                    const int dc_index = f[2 * c + 1] >> 4, ac_index = f[2 * c + 1] & 15;
+                    for (const auto& [used, kind, index] : {std::tuple(dc, 0, dc_index), std::tuple(ac, 1, ac_index)})
+                        if (used && index <= 3 && !defined[kind][index])
+                            return "not a readable image: a scan of the JPEG decodes with Huffman table " + std::string(kind ? "AC " : "DC ") +
+                                   std::to_string(index) + ", which no table (DHT) before it defines";
+                }
             }
         }
         if (marker == 0xc0 || marker == 0xc1) {  // a sequential Huffman-coded frame
