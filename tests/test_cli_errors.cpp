@@ -483,6 +483,44 @@ TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by ha
     CHECK(outside.output.find("X must be a pixel index from 0 to 63") != std::string::npos);
 }
 
+TEST_CASE("texr explain names the texels nearest and bilinear read, their fractions, and the bytes written") {
+    // The square of the test above, textured by a 4 x 4 image whose top two rows are red and
+    // bottom two blue (row 0 is the bottom, v = 0). At pixel (16, 32): u = 16.5/64 = 0.2578125,
+    // v = 1 - 32.5/64 = 0.4921875, so u w = 1.03125 and v h = 1.96875.
+    //  - nearest: column floor(1.03125) = 1, row floor(1.96875) = 1: blue;
+    //  - bilinear: x = u w - 1/2 = 0.53125, y = v h - 1/2 = 1.46875: columns 0 and 1
+    //    (f_u = 0.53125), rows 1 (blue) and 2 (red) (f_v = 0.46875), so the value is
+    //    (0.46875, 0, 0.53125), written as sRGB 255 (1.055 x^(1/2.4) - 0.055): 182 and 193.
+    const std::string dir = scratch_folder("explain-taps");
+    std::string ppm = "P6\n4 4\n255\n";
+    for (int row = 0; row < 4; ++row)  // from the top
+        for (int column = 0; column < 4; ++column) ppm += row < 2 ? std::string("\xff\x00\x00", 3) : std::string("\x00\x00\xff", 3);
+    std::ofstream(dir + "/t.ppm", std::ios::binary) << ppm;
+    const auto explain = [&](const std::string& filter) {
+        write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm filter " + filter +
+                                           "\nmaterial m texture t\nquad material m v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 1 v -2 2 -2 0 1\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 16 32");
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    std::string out = explain("nearest");
+    CAPTURE(out);
+    CHECK(out.find("the nearest texel: u w = 1.0312, v h = 1.9688;") != std::string::npos);
+    CHECK(out.find("wrapped: texel (1, 1) (row 0 is the image's bottom),\n    linear RGBA (0.00000, 0.00000, 1.00000, 1.00000)") !=
+          std::string::npos);
+    CHECK(out.find("sRGB bytes (0, 0, 255)") != std::string::npos);
+    out = explain("bilinear");
+    CAPTURE(out);
+    CHECK(out.find("x = u w - 1/2 = 0.5312,\n    y = v h - 1/2 = 1.4688") != std::string::npos);
+    CHECK(out.find("bilinear reads columns 0 and 1 (f_u = 0.53125), rows 1 and 2 (f_v = 0.46875)") != std::string::npos);
+    CHECK(out.find("t00 (0, 1) (0.00000, 0.00000, 1.00000, 1.00000)   t10 (1, 1) (0.00000, 0.00000, 1.00000, 1.00000)") !=
+          std::string::npos);
+    CHECK(out.find("t01 (0, 2) (1.00000, 0.00000, 0.00000, 1.00000)   t11 (1, 2) (1.00000, 0.00000, 0.00000, 1.00000)") !=
+          std::string::npos);
+    CHECK(out.find("the filter's value, linear RGBA: (0.46875, 0.00000, 0.53125, 1.00000) from 4 texel reads") != std::string::npos);
+    CHECK(out.find("sRGB bytes (182, 0, 193)") != std::string::npos);
+}
+
 TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup re-based them by whole periods") {
     // The square of the test above with UVs offset by (100, -3), and a repeating texture: the
     // setup subtracts the whole periods 100 and -3 (each triangle's smallest u and v to
@@ -987,12 +1025,15 @@ TEST_CASE("scene files with a byte order mark or a NUL byte, explain lines of an
     const RunResult r = run_texr("explain " + dir + "/huge.txt 32 30");
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
-    const std::size_t at = r.output.find("lattice coordinates (texels, before wrapping): x = ");
+    const std::size_t at = r.output.find("before wrapping): x = u w - 1/2 = ");
     REQUIRE(at != std::string::npos);
-    const std::string line = r.output.substr(at, r.output.find('\n', at) - at);
+    const std::size_t y_at = r.output.find('\n', at) + 1;
+    const std::string line = r.output.substr(at, y_at - 1 - at), y_line = r.output.substr(y_at, r.output.find('\n', y_at) - y_at);
     CHECK(line.size() > 300);
-    CHECK(line.find(", y = ") != std::string::npos);
-    CHECK(r.output.find("\n    footprint: ", at) != std::string::npos);  // the next line starts a line
+    CHECK(line.back() == ',');
+    CHECK(y_line.rfind("    y = v h - 1/2 = ", 0) == 0);
+    CHECK(y_line.size() > 300);
+    CHECK(r.output.find("\n    bilinear reads columns", y_at) != std::string::npos);  // the next line starts a line
     // texr bench --size quotes the whole value and the real limit.
     for (const char* size : {"10x10x10", "0x0", "20000x10"}) {
         const RunResult b = run_texr(std::string("bench --size ") + size + " --out " + dir);

@@ -856,3 +856,27 @@ TEST_CASE("node registration measures footprints in spacings between nodes: one 
     CHECK(lattice_texels(Registration::node, 1) == 1);
     CHECK(lattice_texels(Registration::cell, 3) == 3);
 }
+
+TEST_CASE("the texels counted for anisotropic filtering are those its probes read: 4 on one level, 8 on two") {
+    // A 256 x 256 texture has levels 0 to 8. Footprints along u and v, in base texels:
+    //  - 1 x 1/4: N = 4 probes at lambda = log2(1 / 4) = -2, bilinear on the base: 4 x 4 = 16;
+    //  - 64 x 8: N = 8 probes at lambda = log2(64 / 8) = 3, between levels 0 and 8: 8 x 8 = 64;
+    //  - 4096 x 2048: N = 2 probes at lambda = 11, beyond level 8, on the coarsest: 2 x 4 = 8;
+    //  - 60 x 2 with max_anisotropy 16: N = 16 at lambda = log2(60 / 16) = 1.9: 16 x 8 = 128;
+    //  - no footprint: one bilinear lookup on the base: 4.
+    // (texr explain says how many texel reads its value came from; --stats sums them.)
+    Texture t;
+    t.image = std::make_shared<Image>(constant_ldr(256, 256, 90));
+    t.sampler.filter = Filter::anisotropic;
+    t.mipmap = std::make_shared<MipMap>(t.image);
+    const double n = 256.0;
+    const std::pair<UVDerivatives, std::uint64_t> cases[] = {
+        {{1.0 / n, 0.0, 0.0, 0.25 / n}, 16}, {{64.0 / n, 0.0, 0.0, 8.0 / n}, 64}, {{4096.0 / n, 0.0, 0.0, 2048.0 / n}, 8},
+        {{0.0, 60.0 / n, 2.0 / n, 0.0}, 128}, {{0.0, 0.0, 0.0, 0.0}, 4}};
+    for (const auto& [d, expected] : cases) {
+        CAPTURE(d.dudx * n);
+        std::uint64_t texels = 0;
+        lookup_footprint(t, 0.3, 0.6, d, texels);
+        CHECK(texels == expected);
+    }
+}

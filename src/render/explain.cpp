@@ -8,6 +8,7 @@
 #include "texr/texture/ewa.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
+#include "texr/texture/reconstruct.h"
 #include "texr/texture/wrap.h"
 
 namespace texr {
@@ -101,6 +102,45 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     return out + "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
 }
 
+// The texels nearest and bilinear read on the base level, as the slides index them: the
+// wrapped column and row of each (row 0 is the image's bottom, v = 0), the fractions
+// between them, and their linear values. "" for the other filters.
+std::string base_taps(const Texture& t, double u, double v) {
+    const Image& image = t.mipmap->base();
+    const Sampler& s = t.sampler;
+    const int w = image.width(), h = image.height();
+    const auto value = [&](int i, int j) {
+        const Color4 c = i < 0 || j < 0 ? s.border : image.texel(i, j);
+        return format("(%.5f, %.5f, %.5f, %.5f)", c.x, c.y, c.z, c.w);
+    };
+    const auto at = [](int i, int j) {
+        return i < 0 || j < 0 ? std::string("(the border)") : "(" + std::to_string(i) + ", " + std::to_string(j) + ")";
+    };
+    if (s.filter == Filter::nearest) {
+        const int i = reconstruct_detail::nearest_tap(s.registration, s.wrap_u, u, w, image.inv_width());
+        const int j = reconstruct_detail::nearest_tap(s.registration, s.wrap_v, v, h, image.inv_height());
+        const std::string which = s.registration == Registration::cell
+                                      ? format("    the nearest texel: u w = %.4f, v h = %.4f; column min(floor(u w), w - 1),\n"
+                                               "    row min(floor(v h), h - 1)",
+                                               u * w, v * h)
+                                      : format("    the nearest node: u (w - 1) = %.4f, v (h - 1) = %.4f; column round(u (w - 1)),\n"
+                                               "    row round(v (h - 1))",
+                                               u * (w - 1), v * (h - 1));
+        return which + ", wrapped: texel " + at(i, j) + " (row 0 is the image's bottom),\n    linear RGBA " + value(i, j) + "\n";
+    }
+    if (s.filter != Filter::bilinear) return "";
+    const auto a = reconstruct_detail::bilinear_taps(s.registration, s.wrap_u, u, w, image.inv_width());
+    const auto b = reconstruct_detail::bilinear_taps(s.registration, s.wrap_v, v, h, image.inv_height());
+    std::string out = "    bilinear reads columns " + std::to_string(a.i0) + " and " + std::to_string(a.i1) + format(" (f_u = %.5f), rows ", a.f) +
+                      std::to_string(b.i0) + " and " + std::to_string(b.i1) + format(" (f_v = %.5f), wrapped (-1: the border;\n", b.f) +
+                      "    row 0 is the image's bottom):\n";
+    out += "      t00 " + at(a.i0, b.i0) + " " + value(a.i0, b.i0) + "   t10 " + at(a.i1, b.i0) + " " + value(a.i1, b.i0) + "\n";
+    out += "      t01 " + at(a.i0, b.i1) + " " + value(a.i0, b.i1) + "   t11 " + at(a.i1, b.i1) + " " + value(a.i1, b.i1) + "\n";
+    out += "    along v in each column, then along u: c0 = t00 + f_v (t01 - t00), c1 = t10 + f_v (t11 - t10),\n"
+           "    value = c0 + f_u (c1 - c0)\n";
+    return out;
+}
+
 // Step 6: the material's colour times what it reads, times the light, as the span walk
 // shades (scanline.h, shade): each attribute from its plane over w, divided by q.
 std::string shading(const PixelExplanation& e, const Scene& scene, const Material& m, const Color4& texel, double q) {
@@ -175,8 +215,10 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + "), sampled at its centre " +
                       format("(%.1f, %.1f)\n", x, y);
     if (!e.covered)
-        return out + format("no triangle covers it: the background colour shows, linear (%.5f, %.5f, %.5f)\n", scene.background.x,
-                            scene.background.y, scene.background.z);
+        return out + format("no triangle covers it: the background colour shows, linear (%.5f, %.5f, %.5f)", scene.background.x,
+                            scene.background.y, scene.background.z) +
+               format(",\nin the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(scene.background.x),
+                      linear_to_srgb8(scene.background.y), linear_to_srgb8(scene.background.z));
 
     const Material& m = scene.materials[std::size_t(e.material)];
     const Mesh& mesh = scene.meshes[std::size_t(scene.objects[std::size_t(e.object)].mesh)];
@@ -196,6 +238,9 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     if (const auto forward = e.h.forward()) {
         const char* forward_rows[3] = {"x'", "y'", "w "};
         out += "   and the forward homography M = (M^-1)^-1: (u, v, 1) -> (x', y', w)\n" + matrix(*forward, forward_rows);
+        out += format("   (The slide's inverse, the adjugate of M (ei - fh, ch - bi, ...), is det(M) = %.8g times M^-1:\n"
+                      "   a homography holds up to scale, and u = u'/q, v = v'/q come out the same.)\n",
+                      glm::determinant(*forward));
     } else {
         out += "   (the UVs are collinear: M^-1 is singular and there is no forward M; u, v are still defined)\n";
     }
@@ -253,9 +298,15 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                ((t.sampler.wrap_u == Wrap::border && outside_border(u)) || (t.sampler.wrap_v == Wrap::border && outside_border(v))
                     ? " (outside [0, 1]: the border colour)\n"
                     : "\n");
-        const double lx = t.sampler.registration == Registration::cell ? u * w - 0.5 : u * (w - 1);
-        const double ly = t.sampler.registration == Registration::cell ? v * h - 0.5 : v * (h - 1);
-        out += format("    lattice coordinates (texels, before wrapping): x = %.4f, y = %.4f\n", lx, ly);
+        const bool cell = t.sampler.registration == Registration::cell;
+        const double lx = cell ? u * w - 0.5 : u * (w - 1);
+        const double ly = cell ? v * h - 0.5 : v * (h - 1);
+        out += format(cell ? "    lattice coordinates (texel centres at whole numbers, before wrapping): x = u w - 1/2 = %.4f,\n"
+                             "    y = v h - 1/2 = %.4f\n"
+                           : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (w - 1) = %.4f,\n"
+                             "    y = v (h - 1) = %.4f\n",
+                      lx, ly);
+        out += base_taps(t, u, v);
         // The footprint in texels of the lattice: node registration counts node spacings.
         const LatticeSize lattice = lattice_size(t.mipmap->base(), t.sampler);
         const int lw = lattice.width, lh = lattice.height;
@@ -276,7 +327,9 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                format(" from %.0f texel reads\n", double(texels));
     }
     out += shading(e, scene, m, texel, q);
-    out += format("\n7. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)\n", e.depth, e.color.x, e.color.y, e.color.z);
+    out += format("\n7. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)", e.depth, e.color.x, e.color.y, e.color.z) +
+           format(",\n   in the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(e.color.x), linear_to_srgb8(e.color.y),
+                  linear_to_srgb8(e.color.z));
     return out;
 }
 

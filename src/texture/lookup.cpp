@@ -32,9 +32,7 @@ Color4 lookup_footprint(const Texture& t, double u, double v, const UVDerivative
         }
         case Filter::anisotropic: {
             int probes = 0;
-            const Color4 c = sample_anisotropic(mip, s, u, v, d, probes);
-            texels += 8 * std::uint64_t(probes);
-            return c;
+            return sample_anisotropic(mip, s, u, v, d, probes, &texels);
         }
         case Filter::ewa: {
             int read = 0;

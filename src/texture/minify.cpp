@@ -56,7 +56,8 @@ FootprintAxes footprint_axes(double d1u, double d1v, double d2u, double d2v) {
     return axes;
 }
 
-Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes) {
+Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes,
+                          std::uint64_t* texels) {
     // (The short path below is cell registration's only, where these are the image's size.)
     const LatticeSize lattice = lattice_size(mip.base(), s);
     const double w = lattice.width, h = lattice.height;
@@ -64,6 +65,7 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     const double major = axes.major, minor = axes.minor;
     if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
         probes = 1;
+        if (texels) *texels += 4;
         return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
     const AnisotropicProbes probe = anisotropic_probes(major, minor, s.max_anisotropy);
@@ -89,6 +91,7 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
                       : sample_trilinear(mip, s, pu, pv, lambda);
     }
     probes = n;
+    if (texels) *texels += std::uint64_t(n) * std::uint64_t(trilinear_texels(mip, lambda));
     return sum * (1.0f / float(n));
 }
 

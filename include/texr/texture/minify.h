@@ -78,8 +78,10 @@ inline AnisotropicProbes anisotropic_probes(double major, double minor, float ma
 
 // Anisotropic: N = min(ceil(major / minor), max_anisotropy) trilinear probes spaced evenly
 // along the footprint's major axis (footprint_axes, in base-level texels), at
-// lambda = log2(major / N), averaged. Returns the number of probes through `probes`.
-Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes);
+// lambda = log2(major / N), averaged. Returns the number of probes through `probes`, and
+// adds the texels they read to `texels` when given (4 per probe on one level, 8 on two).
+Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& probes,
+                          std::uint64_t* texels = nullptr);
 
 // --- Definitions of the per-pixel parts: inline, so the span loop compiles them in place ---
 namespace minify_detail {
