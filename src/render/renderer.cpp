@@ -1,4 +1,4 @@
-// The frame, top to bottom (DESIGN.md, "One frame"): vertex stage -> homogeneous clipping ->
+// The frame, top to bottom (docs/design.md, "One frame"): vertex stage -> homogeneous clipping ->
 // viewport and 1/256-pixel snapping -> triangle setup (edge functions, homography, planes)
 // (setup_stage.h) -> scanline walk -> shading -> framebuffer (scanline.h). This file runs
 // the two stages on worker threads.

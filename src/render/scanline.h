@@ -1,5 +1,5 @@
-// The scanline walk (DESIGN.md, "scanline walk" and "fragment"): for one prepared triangle,
-// the spans of the rows a worker owns, pixel by pixel: depth test, (u, v) and the other
+// The scanline walk (docs/design.md, "One frame"): for one prepared triangle, the spans
+// of the rows a worker owns, pixel by pixel: depth test, (u, v) and the other
 // attributes from their planes, texture lookup, shading (the short texture paths take
 // spans of 16 pixels or more in batches, with the same arithmetic: shade_span_batched).
 // Compiled once per Needs set.
@@ -282,7 +282,7 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
     stats.texels_fetched += texels;
 }
 
-// The span walk of one row (DESIGN.md, "Determinism and bounded error"): values at the first
+// The span walk of one row (docs/design.md, "Determinism and bounded error"): values at the first
 // pixel centre come from the plane equations; within the span they are stepped by their
 // constant x derivatives: u' += du'/dx, v' += dv'/dx, q += dq/dx.
 template <Needs N, TexturePath P>

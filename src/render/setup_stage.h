@@ -1,4 +1,4 @@
-// Triangle setup (DESIGN.md, "vertex stage", "clip", "triangle setup"): vertices to clip
+// Triangle setup (docs/design.md, "One frame": vertex stage, clip, triangle setup): vertices to clip
 // space, homogeneous clipping, viewport and 1/256-pixel snapping, culling, edge functions,
 // and the plane equations of depth, u', v', q and whatever else the material needs.
 // Internal to the renderer: included by src/render/renderer.cpp only.
@@ -102,7 +102,7 @@ struct PreparedPiece {
 };
 
 // Stage one, once per triangle (workers take batches of triangles as they become free):
-// clipping, viewport, snapping, culling and triangle setup (DESIGN.md, "triangle setup").
+// clipping, viewport, snapping, culling and triangle setup (docs/design.md, "One frame").
 class SetupStage {
 public:
     // `band`: the frame's guard band, the one the vertex stage's clip codes were worked out for.

@@ -1,4 +1,4 @@
-// Coverage: which pixel centres a screen triangle covers (DESIGN.md, "Screen").
+// Coverage: which pixel centres a screen triangle covers (docs/design.md, "Conventions": screen).
 // Vertices are snapped to 1/256 pixel and the three edge functions
 //   E(P) = (Xb - Xa) (Py - Ya) - (Yb - Ya) (Px - Xa) = A Px + B Py + C
 // are evaluated exactly in 64-bit integers. Pixel (x, y) is sampled at its centre,

@@ -1,7 +1,7 @@
 // The lecture's "Triangle Parameterization" slides: per triangle, the 3x3 homography
 //   M:      (u, v, 1)  -> (x', y', w),   (x, y) = (x'/w, y'/w)
 //   M^-1:   (x, y, 1)  -> (u', v', q),   (u, v) = (u'/q, v'/q)
-// The inverse is computed directly (DESIGN.md) as
+// The inverse is computed directly (docs/design.md, "The homography") as
 //   M^-1 = U * diag(1/w0, 1/w1, 1/w2) * adj(S)
 // with S = [x_i; y_i; 1] (screen vertices as columns) and U = [u_i; v_i; 1]. adj(S) * (x, y, 1)
 // is det(S) times the screen-space barycentric coordinates, so this needs only a

@@ -1,4 +1,4 @@
-// "Skip what a scene doesn't need" (DESIGN.md): the set of per-pixel quantities a draw's
+// "Skip what a scene doesn't need" (docs/design.md): the set of per-pixel quantities a draw's
 // material really uses. The span loop is compiled once per set (a template parameter), so
 // a flat-coloured material interpolates nothing but depth, and a nearest-sampled texture
 // pays for no derivatives, normals or world positions.

@@ -1,4 +1,4 @@
-// One frame: vertex stage, clipping, triangle setup, scanline walk, shading (DESIGN.md).
+// One frame: vertex stage, clipping, triangle setup, scanline walk, shading (docs/design.md, "One frame").
 #pragma once
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// The texel store: the only layer that touches texels (DESIGN.md, "Layering").
+// The texel store: the only layer that touches texels (docs/design.md, "Layering").
 // Texel (i, j) is column i from the left and row j from the *bottom* of the image file,
 // so that v = 0 is the bottom row (OBJ / OpenGL convention). Every image is kept as RGBA:
 // LDR images as 8 bits per channel (sRGB-encoded colour, or linear data), HDR as float.

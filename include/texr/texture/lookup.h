@@ -1,5 +1,5 @@
 // The texture layer's entry point: one texture lookup with the texture's own filter.
-// Only the filters below this call touch texels (DESIGN.md, "Layering").
+// Only the filters below this call touch texels (docs/design.md, "Layering").
 #pragma once
 #include <cstdint>
 
