@@ -107,6 +107,34 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
                    "scene.txt:2: 'background' is given a second time (first on line 1)");
     expect_failure("ambient-twice", "ambient 0.1 0.1 0.1\n" + good_scene + "ambient 0.2 0.2 0.2\n",
                    "scene.txt:6: 'ambient' is given a second time (first on line 1)");
+    // An option once per command: of two values the last would silently win. (translate,
+    // rotate and scale compose, and v, n, c give vertices: those repeat.)
+    const std::string textured = "texture t file " + source_path("models/textures/checker.png");
+    expect_failure("fov-twice", "camera fov 50 fov 70\n" + good_scene,
+                   "scene.txt:1: 'fov' is given a second time in this 'camera' command (first on line 1): give it once");
+    expect_failure("filter-twice", textured + " filter nearest filter ewa\n" + good_scene,
+                   "scene.txt:1: 'filter' is given a second time in this 'texture' command (first on line 1)");
+    expect_failure("color-twice", good_scene + "material m color 1 0 0 \\\n  color 0 1 0\n",
+                   "scene.txt:6: 'color' is given a second time in this 'material' command (first on line 5)");
+    expect_failure("light-color-twice", good_scene + "light directional 0 -1 0 color 1 1 1 color 1 0 0\n",
+                   "scene.txt:5: 'color' is given a second time in this 'light' command (first on line 5)");
+    expect_failure("object-material-twice", good_scene + "triangle material red material red v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:5: 'material' is given a second time in this 'triangle' command");
+    expect_failure("cull-twice", good_scene + "triangle cull back cull none v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:5: 'cull' is given a second time in this 'triangle' command");
+    expect_failure("wrap-and-wrap-u", textured + " wrap_u clamp wrap repeat\n" + good_scene,
+                   "scene.txt:1: 'wrap' sets both wrap_u and wrap_v: give either wrap, or wrap_u and wrap_v");
+    expect_failure("wrap-v-after-wrap", textured + " wrap mirror wrap_v clamp\n" + good_scene,
+                   "scene.txt:1: 'wrap' sets both wrap_u and wrap_v");
+    {
+        const std::string dir = scratch_folder("options-that-repeat");
+        write_text(dir + "/scene.txt", good_scene + textured + " wrap_u clamp wrap_v mirror\n"
+                                       "quad translate 0 0 -1 translate 0.1 0 0 rotate 10 0 0 1 rotate 5 1 0 0 scale 2 scale 0.5 "
+                                       "v -1 -1 0 0 0 v 1 -1 0 1 0 v 1 1 0 1 1 v -1 1 0 0 1\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+    }
     expect_failure("not-a-number", "size 32 abc\n" + good_scene, "scene.txt:1: expected the height, found 'abc'");
     expect_failure("unknown-command", "size 32 24\nsphere 1 2 3\n", "scene.txt:2: unknown command 'sphere'");
     expect_failure("unknown-option", good_scene + "material m colour 1 0 0\n", "scene.txt:5: unknown material option 'colour'");

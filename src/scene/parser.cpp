@@ -10,6 +10,8 @@
 #include <new>
 #include <sstream>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -133,6 +135,21 @@ public:
         return value;
     }
 
+    // Records option `key`, just read, of this command; refuses it the second time: of two
+    // values, the last would silently win.
+    void once(const std::string& key) {
+        for (const auto& [name, at] : options_)
+            if (name == key)
+                fail("'" + key + "' is given a second time in this '" + line_.tokens[0] + "' command (first on line " +
+                     std::to_string(line_of(at)) + "): give it once");
+        options_.emplace_back(key, mark());
+    }
+    bool seen(const std::string& key) const {
+        for (const auto& option : options_)
+            if (option.first == key) return true;
+        return false;
+    }
+
     bool next_is_number() const {
         double ignored;
         return !done() && parse_number(peek(), ignored);
@@ -182,6 +199,7 @@ private:
     const Line& line_;
     const std::string& file_;
     std::size_t next_ = 1;
+    std::vector<std::pair<std::string, std::size_t>> options_;  // once(): the options read, where
 };
 
 template <typename Enum>
@@ -252,6 +270,7 @@ private:
         std::size_t fov_at = 0, near_at = 0, far_at = 0, view_at = 0, up_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a camera option");
+            c.once(key);
             if (key == "eye") cam.eye = c.vec3("eye"), view_at = c.mark();
             else if (key == "target") cam.target = c.vec3("target"), view_at = c.mark();
             else if (key == "up") cam.up = direction_scaled(c.vec3("up")), up_at = c.mark();
@@ -283,6 +302,9 @@ private:
         std::size_t file_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a texture option");
+            c.once(key);
+            if ((key == "wrap" && (c.seen("wrap_u") || c.seen("wrap_v"))) || ((key == "wrap_u" || key == "wrap_v") && c.seen("wrap")))
+                c.fail("'wrap' sets both wrap_u and wrap_v: give either wrap, or wrap_u and wrap_v");
             if (key == "file") t.path = relative_to(folder_, c.word("an image file name")), file_at = c.mark();
             else if (key == "filter") {
                 std::map<std::string, Filter> filters;
@@ -372,6 +394,7 @@ private:
         }
         while (!c.done()) {
             const std::string key = c.word("a material option");
+            c.once(key);
             if (key == "color") m.color = c.color("material colour");
             else if (key == "texture") {
                 const std::string name = c.word("a texture name");
@@ -398,6 +421,7 @@ private:
         }
         while (!c.done()) {
             const std::string key = c.word("a light option");
+            c.once(key);
             if (key == "color") l.color = c.color("light colour");
             else c.fail("unknown light option '" + key + "' (expected color)");
         }
@@ -423,7 +447,9 @@ private:
 
     // Object options shared by mesh, triangle and quad. Returns false for an unknown key.
     // `material_at`: where a `material` option named the material.
+    // (translate, rotate and scale may repeat: each applies after those before it.)
     bool object_option(Cursor& c, const std::string& key, Object& object, int& material, std::size_t& material_at) {
+        if (key == "material" || key == "cull") c.once(key);
         if (key == "material") material = material_named(c, c.word("a material name")), material_at = c.mark();
         else if (key == "cull") object.cull_back = choose<bool>(c, "cull mode", {{"back", true}, {"none", false}});
         else if (key == "translate") object.transform = glm::translate(glm::dmat4(1.0), c.vec3("translate")) * object.transform;
