@@ -1377,6 +1377,33 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused before stb_ima
     CHECK(r.output.find("defines 4080 codes, more than the 256 there can be") != std::string::npos);
 }
 
+TEST_CASE("an image whose header claims more than 16384 texels on a side is refused before it is decoded") {
+    // A GIF's logical screen can be any size while its one image is 1 x 1: stb_image sets aside
+    // the whole screen (a 214-byte GIF of 28013 x 24941 asked for 1.8 GB; found by fuzzing).
+    // The GIF: header, screen width and height (little-endian), a 2-entry colour table, one
+    // 1 x 1 image of LZW codes clear (4), 0, end (5) in 3 bits each: bytes 44 01.
+    const std::string dir = scratch_folder("image-too-large");
+    const auto gif = [](unsigned width, unsigned height) {
+        std::string g = "GIF89a";
+        for (const unsigned side : {width, height}) g += char(side & 255), g += char(side >> 8);
+        g += std::string("\x80\x00\x00" "\x00\x00\x00" "\xff\xff\xff", 9);                          // flags, colours
+        g += std::string("\x2c\x00\x00\x00\x00\x01\x00\x01\x00\x00" "\x02\x02\x44\x01\x00" "\x3b", 16);  // the image
+        return g;
+    };
+    RunResult r = render_texture_file(dir, "t.gif", gif(16384, 1));
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    std::remove((dir + "/out.png").c_str());
+    for (const auto& [w, h] : {std::pair(16385u, 1u), std::pair(1u, 16385u), std::pair(28013u, 24941u)}) {
+        r = render_texture_file(dir, "t.gif", gif(w, h));
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("t.gif: the image is too large: its header says " + std::to_string(w) + " x " + std::to_string(h) +
+                            " texels, and texr reads at most 16384 per side") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+}
+
 TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is refused") {
     // stb_image reads such a table from memory it never set and indexed its 256 symbols at
     // 665 (UBSan; found by fuzzing texr's image loading). The two files are the image fuzz

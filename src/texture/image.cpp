@@ -514,6 +514,11 @@ stb_decode::Pixels decode(const std::string& path) {
     if (const std::string cut = short_tga(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_psd(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
+    // The largest image texr reads (a few bytes can claim any size, and stb_image sets aside
+    // the whole of it: a 214-byte GIF whose screen is 28013 x 24941 asked for 1.8 GB).
+    if (int w = 0, h = 0; stb_decode::header_size(file.data(), length, w, h) && (w > max_texture_side || h > max_texture_side))
+        throw InputError(path, 0, "the image is too large: its header says " + std::to_string(w) + " x " + std::to_string(h) +
+                                      " texels, and texr reads at most " + std::to_string(max_texture_side) + " per side");
     const bool hdr = stb_decode::is_hdr(file.data(), length);
     if (hdr)
         if (const std::string cut = hdr_runs_cut(file); !cut.empty()) throw InputError(path, 0, cut);

@@ -52,6 +52,11 @@ namespace texr::stb_decode {
 
 bool is_hdr(const unsigned char* bytes, int length) { return stbi_is_hdr_from_memory(bytes, length) != 0; }
 
+bool header_size(const unsigned char* bytes, int length, int& width, int& height) {
+    int channels = 0;
+    return stbi_info_from_memory(bytes, length, &width, &height, &channels) != 0;
+}
+
 Pixels decode(const unsigned char* bytes, int length, bool hdr, unsigned char fill) {
     fill_byte = fill;
     Pixels p;

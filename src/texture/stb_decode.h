@@ -18,6 +18,10 @@ struct Pixels {
 
 bool is_hdr(const unsigned char* bytes, int length);
 
+// The image's size as its header gives it, without decoding (false if stb_image cannot
+// read the header). For a GIF, the size of its logical screen.
+bool header_size(const unsigned char* bytes, int length, int& width, int& height);
+
 // Decodes with every byte stb_image allocates, and the stack it runs on, first set to `fill`:
 // as float texels when `hdr` (is_hdr's answer for these bytes), else as 8-bit ones.
 Pixels decode(const unsigned char* bytes, int length, bool hdr, unsigned char fill);

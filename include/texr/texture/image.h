@@ -108,6 +108,10 @@ private:
 // The table that reads 8-bit data texels as k / 255.
 const float* unorm8_to_float_table();
 
+// The largest image side load_image reads: 16384 (the usual GL_MAX_TEXTURE_SIZE), so an
+// 8-bit image is at most 1 GiB of texels.
+constexpr int max_texture_side = 16384;
+
 // Loads what stb_image reads: PNG, JPEG, TGA, BMP, GIF, PSD, PIC, PPM/PGM (8-bit) or
 // Radiance HDR (float).
 // `space` says how 8-bit texels are to be read: srgb for colour, linear for data.
