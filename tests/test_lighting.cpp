@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -13,6 +14,7 @@
 
 #include "helpers.h"
 #include "texr/core/color.h"
+#include "texr/core/scaling.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 
@@ -220,4 +222,21 @@ TEST_CASE("an infinite lit colour times no light is written as 0, not NaN") {
         CHECK(c.y == 0.0f);
         CHECK(c.z == 0.0f);
     }
+}
+
+TEST_CASE("unit_scale_exponent brings the largest value to 1 or more and below 2 by a power of two") {
+    CHECK(unit_scale_exponent(1.0) == 0);
+    CHECK(unit_scale_exponent(1.999) == 0);
+    CHECK(unit_scale_exponent(2.0) == -1);
+    CHECK(unit_scale_exponent(0.75) == 1);
+    CHECK(unit_scale_exponent(0x1p-1074) == 1074);  // the smallest subnormal
+    CHECK(unit_scale_exponent(0x1.fffffffffffffp1023) == -1023);  // the largest double
+    for (const double x : {3e-300, 7e-20, 0.3, 12345.0, 1e150, 1e300}) {
+        const double scaled = std::ldexp(x, unit_scale_exponent(x));
+        CHECK(scaled >= 1.0);
+        CHECK(scaled < 2.0);
+    }
+    CHECK(unit_scale_exponent(0.0) == 0);
+    CHECK(unit_scale_exponent(std::numeric_limits<double>::infinity()) == 0);
+    CHECK(unit_scale_exponent(std::nan("")) == 0);
 }

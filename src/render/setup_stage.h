@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 
 #include "scanline.h"
+#include "texr/core/scaling.h"
 #include "texr/raster/clip.h"
 #include "texr/render/renderer.h"
 #include "texr/texture/wrap.h"
@@ -62,12 +63,9 @@ void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_pr
     double largest = 0.0;
     for (int col = 0; col < 3; ++col)
         for (int row = 0; row < 3; ++row) largest = std::max(largest, std::fabs(linear[col][row]));
-    if (largest > 0.0 && std::isfinite(largest)) {
-        int exponent = 0;
-        std::frexp(largest, &exponent);
-        for (int col = 0; col < 3; ++col)
-            for (int row = 0; row < 3; ++row) linear[col][row] = std::ldexp(linear[col][row], 1 - exponent);
-    }
+    const int k = unit_scale_exponent(largest);
+    for (int col = 0; col < 3; ++col)
+        for (int row = 0; row < 3; ++row) linear[col][row] = std::ldexp(linear[col][row], k);
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
     for (std::size_t i = first; i < last; ++i) {
         const glm::dvec4 p(glm::dvec3(mesh.vertices[i].position), 1.0);

@@ -17,6 +17,7 @@
 
 #include "texr/core/error.h"
 #include "texr/core/path.h"
+#include "texr/core/scaling.h"
 #include "texr/scene/obj_mesh.h"
 
 namespace texr {
@@ -28,11 +29,8 @@ namespace {
 // length neither overflows nor underflows (a light direction of 1e300, an up of 1e-300).
 // The zero vector stays zero.
 glm::dvec3 direction_scaled(const glm::dvec3& v) {
-    const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-    if (!(largest > 0.0) || !std::isfinite(largest)) return v;
-    int exponent = 0;
-    std::frexp(largest, &exponent);  // largest = m 2^exponent, m in [1/2, 1)
-    return glm::dvec3(std::ldexp(v.x, 1 - exponent), std::ldexp(v.y, 1 - exponent), std::ldexp(v.z, 1 - exponent));
+    const int k = unit_scale_exponent(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}));
+    return glm::dvec3(std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k));
 }
 
 // --- Tokens of one logical line ------------------------------------------------------------
