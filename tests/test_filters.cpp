@@ -110,6 +110,29 @@ TEST_CASE("the cubic B-spline never overshoots, and clamping removes Catmull-Rom
     }
 }
 
+TEST_CASE("bicubic of HDR texels near the float maximum with B and C far from [0, 1] is their value, not inf - inf") {
+    // The weights sum to 1 for any (B, C), so a constant image reads as its value; with
+    // B = C = 10 single weights reach about 10, and 1.3e38 x 10 overflows a float. A ramp of
+    // such values: between two texels the cubic of a linear ramp stays on it only for
+    // B + 2C = 1, so there only the constant is checked exactly, the ramp for being finite.
+    Sampler s;
+    s.filter = Filter::bicubic;
+    s.cubic_b = 10.0f, s.cubic_c = 10.0f;
+    const float big = 1.3e38f;
+    std::vector<float> flat(5 * 5 * 4, big), ramp(5 * 5 * 4, 1.0f);
+    for (int k = 0; k < 25; ++k)
+        for (int c = 0; c < 3; ++c) ramp[std::size_t(k) * 4 + std::size_t(c)] = big * (float(k % 5 + 1) / 5.0f);
+    const Image constant = Image::hdr(5, 5, flat), rising = Image::hdr(5, 5, ramp);
+    for (const double u : {0.13, 0.31, 0.5, 0.77}) {
+        CAPTURE(u);
+        const Color4 a = sample_bicubic(constant, s, u, 0.42);
+        // (The float weights themselves sum to 1 within about 1e-5 at B = C = 10: 0.999993 at f = 0.15.)
+        for (int c = 0; c < 4; ++c) CHECK(double(a[c]) == doctest::Approx(double(big)).epsilon(1e-4));
+        const Color4 b = sample_bicubic(rising, s, u, 0.42);
+        for (int c = 0; c < 3; ++c) CHECK(std::isfinite(b[c]));
+    }
+}
+
 TEST_CASE("mip levels of a constant image are constant, for any size") {
     for (auto [w, h] : {std::pair{64, 64}, std::pair{37, 23}, std::pair{1, 9}, std::pair{100, 3}}) {
         const MipMap mip(std::make_shared<Image>(constant_ldr(w, h, 173)));

@@ -53,6 +53,17 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
         for (int a = 0; a < 4; ++a) row += wu[a] * reconstruct_detail::texel_or_border(image, sampler, iu[a], iv[b]);
         sum += wv[b] * row;
     }
+    if (!(std::isfinite(sum.x) && std::isfinite(sum.y) && std::isfinite(sum.z) && std::isfinite(sum.w))) {
+        // Overflowed in float: HDR texels near 3.4e38 times weights above 1 (B and C far from
+        // [0, 1]) made inf - inf. The same sum in double; a true value beyond float stays inf.
+        glm::dvec4 total(0.0);
+        for (int b = 0; b < 4; ++b) {
+            glm::dvec4 row(0.0);
+            for (int a = 0; a < 4; ++a) row += double(wu[a]) * glm::dvec4(reconstruct_detail::texel_or_border(image, sampler, iu[a], iv[b]));
+            total += double(wv[b]) * row;
+        }
+        sum = Color4(total);
+    }
     if (sampler.clamp_overshoot) {
         const Color4 t00 = reconstruct_detail::texel_or_border(image, sampler, iu[1], iv[1]), t10 = reconstruct_detail::texel_or_border(image, sampler, iu[2], iv[1]);
         const Color4 t01 = reconstruct_detail::texel_or_border(image, sampler, iu[1], iv[2]), t11 = reconstruct_detail::texel_or_border(image, sampler, iu[2], iv[2]);
