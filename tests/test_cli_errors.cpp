@@ -1369,6 +1369,17 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused before stb_ima
     CHECK(r.output.find("t.jpg: not a readable image: a Huffman table (DHT) of the JPEG defines 300 codes, more than the 256 there can be") !=
           std::string::npos);
     CHECK_FALSE(file_exists(dir + "/out.png"));
+    // stb_image reads FF bytes before a marker as fill, also before the start of image: with
+    // three of them the good file still renders, and the damaged one is still refused.
+    // (Found by fuzzing: the check had looked for FF D8 in the first two bytes only.)
+    r = render_with("\xff\xff\xff" + small_jpeg(53));
+    CHECK(r.exit_code == 0);
+    std::remove((dir + "/out.png").c_str());
+    r = render_with("\xff\xff\xff" + jpeg);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("defines 300 codes, more than the 256 there can be") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
     // A segment whose stated length (3) ends inside its table: stb_image reads the table's 16
     // counts past the segment anyway (16 x 255 = 4080 codes). (From a review of the check.)
     r = render_with(std::string("\xff\xd8\xff\xc4\x00\x03\x00", 7) + std::string(16, '\xff') + std::string(40, '\0'));

@@ -255,8 +255,11 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
 //   such bound, and it is not checked.)
 // Returns the message for such a file, or "".
 std::string jpeg_damage(const std::vector<unsigned char>& file) {
-    if (file.size() < 4 || file[0] != 0xff || file[1] != 0xd8) return "";
-    std::size_t at = 2;
+    // Its start of image: FF D8, after any number of FF fill bytes (stb_image reads a marker so).
+    std::size_t at = 0;
+    while (at < file.size() && file[at] == 0xff) ++at;
+    if (at < 1 || at >= file.size() || file[at] != 0xd8) return "";
+    ++at;
     bool defined[2][4] = {};  // Huffman tables defined so far: [DC, AC][index]
     int frame = 0;            // the frame header's marker once read: 0xc0, 0xc1 (sequential) or 0xc2 (progressive)
     std::vector<int> frame_ids;  // its components' identifiers
