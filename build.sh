@@ -77,11 +77,12 @@ fuzz_images() {
     echo "== fuzzing image loading, $1 s"
     CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_FUZZ=ON -DBUILD_TESTING=OFF >/dev/null
     cmake --build build-fuzz -j "$(nproc)" --target texr_fuzz_image
-    local scratch
-    scratch="$(mktemp -d)"
-    (cd build-fuzz && ./texr_fuzz_image -max_total_time="$1" -max_len=65536 -rss_limit_mb=4096 -timeout=20 \
-        -print_final_stats=1 "$scratch" ../tests/fuzz/corpus/image)
-    rm -rf "$scratch"
+    # New inputs and the fuzz target's scratch file go to a folder removed however the run ends.
+    scratch="$(mktemp -d)"  # (not local: the trap reads it when the script exits)
+    trap 'rm -rf "$scratch"' EXIT
+    mkdir "$scratch/new"
+    (cd build-fuzz && TEXR_FUZZ_SCRATCH="$scratch" ./texr_fuzz_image -max_total_time="$1" -max_len=65536 -rss_limit_mb=4096 \
+        -timeout=20 -print_final_stats=1 "$scratch/new" ../tests/fuzz/corpus/image)
 }
 
 case "${1:-}" in

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <tuple>
 
 #include <stb_image_write.h>
 #include <zlib.h>
@@ -1413,6 +1414,28 @@ TEST_CASE("an image whose header claims more than 16384 texels on a side is refu
                             " texels, and texr reads at most 16384 per side") != std::string::npos);
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
+    // A Softimage PIC, whose size stbi_info does not give when it cannot read the packets (or
+    // the image is above 2^28 texels), while stb_image's loader sets aside the whole image
+    // first (found in review). The PIC: 53 80 F6 34, 84 bytes, "PICT", width and height
+    // (big-endian), 8 bytes, packets (chained, bits per channel, type, channels), texels.
+    const auto pic = [](unsigned width, unsigned height, char bits) {
+        std::string p = std::string("\x53\x80\xF6\x34", 4) + std::string(84, '\0') + "PICT";
+        for (const unsigned side : {width, height}) p += char(side >> 8), p += char(side & 255);
+        p += std::string(8, '\0') + std::string("\x00", 1) + bits + std::string("\x00\xf0", 2);  // one packet: RGBA, uncompressed
+        return p + std::string(std::size_t(4) * std::min(width * height, 4u), '\x80');
+    };
+    r = render_texture_file(dir, "t.pic", pic(2, 2, 8));
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    std::remove((dir + "/out.png").c_str());
+    for (const auto& [w, h, bits] : {std::tuple(16385u, 1u, 8), std::tuple(65535u, 8191u, 8), std::tuple(65535u, 8191u, 7)}) {
+        r = render_texture_file(dir, "t.pic", pic(w, h, char(bits)));
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("t.pic: the image is too large: its header says " + std::to_string(w) + " x " + std::to_string(h) +
+                            " texels, and texr reads at most 16384 per side") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
 }
 
 TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is refused") {
@@ -1451,6 +1474,16 @@ TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is r
                             ", which no table (DHT) before it defines") != std::string::npos);
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
+    // A file that ends inside the scan's header, before its Ss, Se and Ah/Al bytes (which
+    // stb_image then reads as 0): an 8 x 8 frame of component 1 (SOF0, length 11), then a scan
+    // of component 1 with DC table 0 and AC table 0 (SOS, length 8), and no DHT at all.
+    const std::string cut("\xff\xd8\xff\xc0\x00\x0b\x08\x00\x08\x00\x08\x01\x01\x11\x00\xff\xda\x00\x08\x01\x01\x00", 22);
+    RunResult r = render_texture_file(dir, "t.jpg", cut);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("t.jpg: not a readable image: a scan of the JPEG decodes with Huffman table DC 0, which no table (DHT) before it "
+                        "defines") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
 }
 
 TEST_CASE("a PNG whose image data cannot hold its header's size is refused before it is decoded") {

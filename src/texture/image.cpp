@@ -260,6 +260,8 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
     while (at < file.size() && file[at] == 0xff) ++at;
     if (at < 1 || at >= file.size() || file[at] != 0xd8) return "";
     ++at;
+    // stb_image reads bytes past the end of the file as 0: so does this check.
+    const auto byte = [&](std::size_t i) { return i < file.size() ? std::size_t(file[i]) : std::size_t(0); };
     bool defined[2][4] = {};  // Huffman tables defined so far: [DC, AC][index]
     int frame = 0;            // the frame header's marker once read: 0xc0, 0xc1 (sequential) or 0xc2 (progressive)
     std::vector<int> frame_ids;  // its components' identifiers
@@ -281,9 +283,7 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
         if (at + 4 > file.size()) return "";
         const std::size_t length = std::size_t(file[at + 2]) << 8 | file[at + 3];  // counts its own two bytes
         if (marker == 0xc4) {  // DHT: tables of a class/index byte, 16 code counts, the codes' symbols
-            // stb_image reads tables while the segment's stated length lasts, and bytes past the
-            // end of the file as 0: so does this check.
-            const auto byte = [&](std::size_t i) { return i < file.size() ? std::size_t(file[i]) : std::size_t(0); };
+            // stb_image reads tables while the segment's stated length lasts.
             for (std::size_t t = at + 4; t < at + 2 + length;) {
                 std::size_t codes = 0;
                 for (std::size_t i = 1; i <= 16; ++i) codes += byte(t + i);
@@ -294,20 +294,20 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
                 t += 17 + codes;
             }
         }
-        if ((marker == 0xc0 || marker == 0xc1 || marker == 0xc2) && frame == 0 && length >= 8 && at + 10 <= file.size()) {
+        if ((marker == 0xc0 || marker == 0xc1 || marker == 0xc2) && frame == 0 && length >= 8) {
             frame = marker;
-            for (std::size_t c = 0; c < file[at + 9] && at + 10 + 3 * c < file.size(); ++c) frame_ids.push_back(file[at + 10 + 3 * c]);
+            for (std::size_t c = 0; c < byte(at + 9); ++c) frame_ids.push_back(int(byte(at + 10 + 3 * c)));
         }
-        if (marker == 0xda && frame != 0 && at + 5 <= file.size()) {  // a scan's header: its components' tables, then Ss, Se, Ah/Al
-            const std::size_t n = file[at + 4];
-            const unsigned char* f = file.data() + at + 5;
-            if (length == 6 + 2 * n && at + 5 + 2 * n + 3 <= file.size()) {
-                const int ss = f[2 * n], se = f[2 * n + 1], ah = f[2 * n + 2] >> 4;
+        if (marker == 0xda && frame != 0) {  // a scan's header: its components' tables, then Ss, Se, Ah/Al
+            // (A file that ends inside the header still decodes, with the missing bytes read as 0.)
+            const std::size_t n = byte(at + 4), f = at + 5;
+            if (length == 6 + 2 * n) {  // (else refused by stb_image)
+                const std::size_t ss = byte(f + 2 * n), se = byte(f + 2 * n + 1), ah = byte(f + 2 * n + 2) >> 4;
                 const bool sequential = frame != 0xc2;
                 const bool dc = sequential || (ss == 0 && se == 0 && ah == 0), ac = sequential || (ss > 0 && n == 1);
                 for (std::size_t c = 0; c < n; ++c) {
-                    if (std::find(frame_ids.begin(), frame_ids.end(), f[2 * c]) == frame_ids.end()) continue;  // (refused by stb_image)
-                    const int dc_index = f[2 * c + 1] >> 4, ac_index = f[2 * c + 1] & 15;
+                    if (std::find(frame_ids.begin(), frame_ids.end(), int(byte(f + 2 * c))) == frame_ids.end()) continue;  // (refused by stb_image)
+                    const std::size_t dc_index = byte(f + 2 * c + 1) >> 4, ac_index = byte(f + 2 * c + 1) & 15;
                     for (const auto& [used, kind, index] : {std::tuple(dc, 0, dc_index), std::tuple(ac, 1, ac_index)})
                         if (used && index <= 3 && !defined[kind][index])
                             return "not a readable image: a scan of the JPEG decodes with Huffman table " + std::string(kind ? "AC " : "DC ") +
@@ -507,6 +507,19 @@ std::uint64_t hash_of(const stb_decode::Pixels& p) {
     return h ^ (h >> 32);
 }
 
+// The size a file's header gives, as stb_image will read it; false if none is found.
+// stbi_info gives up on a Softimage PIC whose packets it cannot read, or whose size is above
+// 2^28 texels, while stb_image's loader still sets aside the whole image before it reads a
+// packet (a 172-byte PIC of 65535 x 8191 asked for 2.1 GB): the PIC's own header is read here.
+// A PIC: the bytes 53 80 F6 34, 84 more, "PICT", then width and height (big-endian, 16 bits).
+bool header_size(const std::vector<unsigned char>& file, int& width, int& height) {
+    if (file.size() >= 96 && std::memcmp(file.data(), "\x53\x80\xF6\x34", 4) == 0 && std::memcmp(file.data() + 88, "PICT", 4) == 0) {
+        width = file[92] << 8 | file[93], height = file[94] << 8 | file[95];
+        return true;
+    }
+    return stb_decode::header_size(file.data(), int(file.size()), width, height);
+}
+
 // The file's bytes live only while it is decoded (not while the rows are flipped).
 stb_decode::Pixels decode(const std::string& path) {
     const std::vector<unsigned char> file = file_bytes(path);
@@ -519,7 +532,7 @@ stb_decode::Pixels decode(const std::string& path) {
     const int length = int(file.size());
     // The largest image texr reads (a few bytes can claim any size, and stb_image sets aside
     // the whole of it: a 214-byte GIF whose screen is 28013 x 24941 asked for 1.8 GB).
-    if (int w = 0, h = 0; stb_decode::header_size(file.data(), length, w, h) && (w > max_texture_side || h > max_texture_side))
+    if (int w = 0, h = 0; header_size(file, w, h) && (w > max_texture_side || h > max_texture_side))
         throw InputError(path, 0, "the image is too large: its header says " + std::to_string(w) + " x " + std::to_string(h) +
                                       " texels, and texr reads at most " + std::to_string(max_texture_side) + " per side");
     const bool hdr = stb_decode::is_hdr(file.data(), length);
@@ -540,6 +553,9 @@ stb_decode::Pixels decode(const std::string& path) {
     stb_decode::Pixels d = stb_decode::decode(file.data(), length, hdr, 0xff);
     if (!d.data) throw InputError(path, 0, unreadable(d.failure.c_str()));
     if (d.width <= 0 || d.height <= 0) throw InputError(path, 0, "not a readable image: it has no texels");
+    if (d.width > max_texture_side || d.height > max_texture_side)  // (a format whose size the header did not give)
+        throw InputError(path, 0, "the image is too large: it is " + std::to_string(d.width) + " x " + std::to_string(d.height) +
+                                      " texels, and texr reads at most " + std::to_string(max_texture_side) + " per side");
     if (twice && (first_width != d.width || first_height != d.height || first_hash != hash_of(d)))
         throw InputError(path, 0, "not a readable image: it leaves texels undefined (a palette index beyond its palette, or "
                                   "image data it does not hold)");

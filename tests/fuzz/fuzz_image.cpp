@@ -4,6 +4,8 @@
 // Not run by `./build.sh test`: a find inside stb_image would fail CI for a bug texr cannot
 // mend at its root (see README, "Fuzzing"). Run it with `./build.sh fuzz-images`.
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <fstream>
 #include <memory>
@@ -16,9 +18,16 @@
 #include "texr/texture/mipmap.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    // load_image reads a path: one scratch file per fuzzing process.
-    static const std::string path = "/tmp/texr-fuzz-image-" + std::to_string(getpid());
+    // load_image reads a path: one scratch file per fuzzing process, removed after each input,
+    // in TEXR_FUZZ_SCRATCH (./build.sh sets a folder it removes, also after a crash) or /tmp.
+    static const std::string path = [] {
+        const char* folder = std::getenv("TEXR_FUZZ_SCRATCH");
+        return std::string(folder && *folder ? folder : "/tmp") + "/texr-fuzz-image-" + std::to_string(getpid());
+    }();
     std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
+    struct Removed {
+        ~Removed() { std::remove(path.c_str()); }
+    } removed;
     try {
         // The first byte's low bit picks the colour space, as a scene's texture line would.
         const auto space = size > 0 && (data[0] & 1) ? texr::ColorSpace::linear : texr::ColorSpace::srgb;
