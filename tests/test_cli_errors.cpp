@@ -1414,9 +1414,9 @@ TEST_CASE("an image whose header claims more than 16384 texels on a side is refu
                             " texels, and texr reads at most 16384 per side") != std::string::npos);
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
-    // A Softimage PIC, whose size stbi_info does not give when it cannot read the packets (or
-    // the image is above 2^28 texels), while stb_image's loader sets aside the whole image
-    // first (found in review). The PIC: 53 80 F6 34, 84 bytes, "PICT", width and height
+    // A Softimage PIC, whose size stbi_info does not give when it cannot read the packets (7
+    // bits per channel below) or the image is above 2^28 texels, while stb_image's loader
+    // sets aside the whole image first (found in review). The PIC: 53 80 F6 34, 84 bytes, "PICT", width and height
     // (big-endian), 8 bytes, packets (chained, bits per channel, type, channels), texels.
     const auto pic = [](unsigned width, unsigned height, char bits) {
         std::string p = std::string("\x53\x80\xF6\x34", 4) + std::string(84, '\0') + "PICT";
@@ -1428,7 +1428,7 @@ TEST_CASE("an image whose header claims more than 16384 texels on a side is refu
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
     std::remove((dir + "/out.png").c_str());
-    for (const auto& [w, h, bits] : {std::tuple(16385u, 1u, 8), std::tuple(65535u, 8191u, 8), std::tuple(65535u, 8191u, 7)}) {
+    for (const auto& [w, h, bits] : {std::tuple(16385u, 1u, 8), std::tuple(16385u, 1u, 7), std::tuple(65535u, 8191u, 8), std::tuple(65535u, 8191u, 7)}) {
         r = render_texture_file(dir, "t.pic", pic(w, h, char(bits)));
         CAPTURE(r.output);
         CHECK(r.exit_code == 1);
@@ -1484,6 +1484,43 @@ TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is r
     CHECK(r.output.find("t.jpg: not a readable image: a scan of the JPEG decodes with Huffman table DC 0, which no table (DHT) before it "
                         "defines") != std::string::npos);
     CHECK_FALSE(file_exists(dir + "/out.png"));
+}
+
+TEST_CASE("a JPEG that dequantizes with a quantization table no DQT has defined is refused") {
+    // stb_image multiplies by table values it never set (UBSan: signed overflow; found by
+    // fuzzing, where the file's one DQT lay inside an APP0 segment). Both seeds define
+    // table 0 (index byte at 0x18) and table 1 (0x5d) and use 0 for component 1, 1 for
+    // components 2 and 3; renaming table 1 as table 2 leaves table 1 undefined. base.jpg
+    // (sequential) uses it in its one scan, prog.jpg (progressive) at its end.
+    const std::string dir = scratch_folder("jpeg-undefined-quantizer");
+    for (const auto& [name, who] : {std::pair("base.jpg", "a scan of the JPEG"), std::pair("prog.jpg", "the progressive JPEG")}) {
+        std::string jpeg = read_file(source_path(std::string("tests/fuzz/corpus/image/") + name));
+        REQUIRE(jpeg.size() > 0x100);
+        RunResult r = render_texture_file(dir, "t.jpg", jpeg);
+        CHECK(r.exit_code == 0);
+        const std::string frame = read_file(dir + "/out.png");
+        std::remove((dir + "/out.png").c_str());
+        REQUIRE(jpeg.substr(0x14, 2) == "\xff\xdb");
+        REQUIRE(jpeg.substr(0x59, 2) == "\xff\xdb");
+        REQUIRE(jpeg[0x5d] == '\x01');
+        jpeg[0x5d] = '\x02';
+        r = render_texture_file(dir, "t.jpg", jpeg);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(std::string("t.jpg: not a readable image: ") + who +
+                            " dequantizes with quantization table 1, which no table (DQT) before it defines") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+        // The same table defined after the frame header, still before the scans, is fine:
+        // move the second DQT segment (0x59, 69 bytes) behind the frame header (0x9e, 19 bytes).
+        jpeg[0x5d] = '\x01';
+        const std::string moved = jpeg.substr(0, 0x59) + jpeg.substr(0x9e, 19) + jpeg.substr(0x59, 69) + jpeg.substr(0x9e + 19);
+        REQUIRE(moved.size() == jpeg.size());
+        r = render_texture_file(dir, "t.jpg", moved);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        CHECK(read_file(dir + "/out.png") == frame);  // the same texels
+        std::remove((dir + "/out.png").c_str());
+    }
 }
 
 TEST_CASE("a PNG whose image data cannot hold its header's size is refused before it is decoded") {

@@ -246,6 +246,10 @@ std::string short_bmp(const std::vector<unsigned char>& file) {
 //   A sequential scan reads the DC and AC tables of each of its components; a progressive
 //   scan its components' DC tables when it codes first DC values (Ss = 0, Ah = 0), its one
 //   component's AC table when it codes AC values (Ss > 0), and none when it refines DC values.
+// - A quantization table (DQT) used before one defines it: stb_image multiplies by values it
+//   never set (a signed overflow, and texels that change with memory, found by fuzzing: the
+//   file's one DQT lay inside an APP0 segment). A sequential scan dequantizes its components'
+//   blocks as it decodes them; a progressive JPEG dequantizes every component at its end.
 // - A sequential JPEG shorter than its frame header's size asks for: stb_image reads image
 //   data that ends early as if zeros followed (a 613-byte file whose header says 16000 x
 //   16000 took 12 s and 2 GB to become a grey texture). In a sequential Huffman-coded JPEG
@@ -263,8 +267,13 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
     // stb_image reads bytes past the end of the file as 0: so does this check.
     const auto byte = [&](std::size_t i) { return i < file.size() ? std::size_t(file[i]) : std::size_t(0); };
     bool defined[2][4] = {};  // Huffman tables defined so far: [DC, AC][index]
+    bool quantizer[4] = {};   // quantization tables defined so far
     int frame = 0;            // the frame header's marker once read: 0xc0, 0xc1 (sequential) or 0xc2 (progressive)
-    std::vector<int> frame_ids;  // its components' identifiers
+    std::vector<int> frame_ids, frame_quantizers;  // its components' identifiers and quantization tables
+    const auto undefined_quantizer = [&](std::size_t index, const char* who) {
+        return "not a readable image: " + std::string(who) + " dequantizes with quantization table " + std::to_string(index) +
+               ", which no table (DQT) before it defines";
+    };
     while (at + 2 <= file.size()) {
         if (file[at] != 0xff) {  // no marker here: move on to the next
             ++at;
@@ -275,7 +284,11 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
             ++at;
             continue;
         }
-        if (marker == 0xd9) return "";  // end of image
+        if (marker == 0xd9) {  // end of image: a progressive JPEG's coefficients are dequantized now
+            for (const int q : frame_quantizers)
+                if (frame == 0xc2 && q <= 3 && !quantizer[q]) return undefined_quantizer(std::size_t(q), "the progressive JPEG");
+            return "";
+        }
         if (marker == 0x00 || marker == 0x01 || (marker >= 0xd0 && marker <= 0xd8)) {  // markers without a segment
             at += 2;
             continue;
@@ -294,9 +307,13 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
                 t += 17 + codes;
             }
         }
+        if (marker == 0xdb)  // DQT: tables of a precision/index byte and 64 values of 8 or 16 bits
+            for (std::size_t t = at + 4; t < at + 2 + length && byte(t) >> 4 <= 1 && (byte(t) & 15) <= 3; t += 1 + (byte(t) >> 4 ? 128 : 64))
+                quantizer[byte(t) & 15] = true;  // (other precisions and indices are refused by stb_image)
         if ((marker == 0xc0 || marker == 0xc1 || marker == 0xc2) && frame == 0 && length >= 8) {
             frame = marker;
-            for (std::size_t c = 0; c < byte(at + 9); ++c) frame_ids.push_back(int(byte(at + 10 + 3 * c)));
+            for (std::size_t c = 0; c < byte(at + 9); ++c)
+                frame_ids.push_back(int(byte(at + 10 + 3 * c))), frame_quantizers.push_back(int(byte(at + 12 + 3 * c)));
         }
         if (marker == 0xda && frame != 0) {  // a scan's header: its components' tables, then Ss, Se, Ah/Al
             // (A file that ends inside the header still decodes, with the missing bytes read as 0.)
@@ -306,13 +323,19 @@ std::string jpeg_damage(const std::vector<unsigned char>& file) {
                 const bool sequential = frame != 0xc2;
                 const bool dc = sequential || (ss == 0 && se == 0 && ah == 0), ac = sequential || (ss > 0 && n == 1);
                 for (std::size_t c = 0; c < n; ++c) {
-                    if (std::find(frame_ids.begin(), frame_ids.end(), int(byte(f + 2 * c))) == frame_ids.end()) continue;  // (refused by stb_image)
+                    const auto id = std::find(frame_ids.begin(), frame_ids.end(), int(byte(f + 2 * c)));
+                    if (id == frame_ids.end()) continue;  // (refused by stb_image)
                     const std::size_t dc_index = byte(f + 2 * c + 1) >> 4, ac_index = byte(f + 2 * c + 1) & 15;
                     for (const auto& [used, kind, index] : {std::tuple(dc, 0, dc_index), std::tuple(ac, 1, ac_index)})
                         if (used && index <= 3 && !defined[kind][index])
                             return "not a readable image: a scan of the JPEG decodes with Huffman table " + std::string(kind ? "AC " : "DC ") +
                                    std::to_string(index) + ", which no table (DHT) before it defines";
                 }
+                // A sequential scan dequantizes each block as it decodes it.
+                for (std::size_t c = 0; c < n && sequential; ++c)
+                    if (const auto id = std::find(frame_ids.begin(), frame_ids.end(), int(byte(f + 2 * c))); id != frame_ids.end())
+                        if (const int q = frame_quantizers[std::size_t(id - frame_ids.begin())]; q <= 3 && !quantizer[q])
+                            return undefined_quantizer(std::size_t(q), "a scan of the JPEG");
             }
         }
         if (marker == 0xc0 || marker == 0xc1) {  // a sequential Huffman-coded frame
