@@ -72,17 +72,18 @@ fuzz() {
 }
 
 # fuzz_images SECONDS: image files through stb_image, texr's checks before it, and the mip
-# levels; finds are written to build-fuzz/ as crash-* files, new inputs to a scratch folder.
+# levels; finds are written to build-fuzz/ as crash-* files.
 fuzz_images() {
     echo "== fuzzing image loading, $1 s"
     CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXR_FUZZ=ON -DBUILD_TESTING=OFF >/dev/null
     cmake --build build-fuzz -j "$(nproc)" --target texr_fuzz_image
-    # New inputs and the fuzz target's scratch file go to a folder removed however the run ends.
+    # New inputs are kept in build-fuzz/image-corpus (the next run starts from them); the fuzz
+    # target's scratch file goes to a folder removed however the run ends.
     scratch="$(mktemp -d)"  # (not local: the trap reads it when the script exits)
     trap 'rm -rf "$scratch"' EXIT
-    mkdir "$scratch/new"
+    mkdir -p build-fuzz/image-corpus
     (cd build-fuzz && TEXR_FUZZ_SCRATCH="$scratch" ./texr_fuzz_image -max_total_time="$1" -max_len=65536 -rss_limit_mb=4096 \
-        -timeout=20 -print_final_stats=1 "$scratch/new" ../tests/fuzz/corpus/image)
+        -timeout=20 -print_final_stats=1 image-corpus ../tests/fuzz/corpus/image)
 }
 
 case "${1:-}" in
