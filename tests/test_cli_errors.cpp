@@ -1016,6 +1016,33 @@ TEST_CASE("texr explain with --size or --span and no value says the value is mis
     }
 }
 
+TEST_CASE("a command-line option given twice is refused, and nothing is written") {
+    const std::string dir = scratch_folder("option-twice");
+    const std::string scene = source_path("models/plane.scene");
+    struct Twice {
+        std::string command, message;
+    };
+    for (const Twice& t : {Twice{"render " + scene + " -o " + dir + "/a.png -o " + dir + "/b.png", "-o is given twice"},
+                           Twice{"render " + scene + " --output " + dir + "/a.png -o " + dir + "/b.png", "-o is given twice"},
+                           Twice{"render " + scene + " -o " + dir + "/a.png --size 10x10 --size 20x20", "--size is given twice"},
+                           Twice{"render " + scene + " -o " + dir + "/a.png --threads 2 --threads 1", "--threads is given twice"},
+                           Twice{"render " + scene + " -o " + dir + "/a.png --stats --stats", "--stats is given twice"},
+                           Twice{"explain " + scene + " 1 2 --size 10x10 --size 20x20", "--size is given twice"},
+                           Twice{"bench filters --out " + dir + "/bench --quick --quick", "--quick is given twice"}}) {
+        const RunResult r = run_texr(t.command);
+        CAPTURE(t.command);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.find(t.message + ": give it once") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/a.png"));
+        CHECK_FALSE(file_exists(dir + "/b.png"));
+        CHECK_FALSE(file_exists(dir + "/bench"));
+    }
+    // Once each is fine.
+    CHECK(run_texr("render " + scene + " -o " + dir + "/a.png --size 10x10 --threads 2").exit_code == 0);
+    CHECK(file_exists(dir + "/a.png"));
+}
+
 TEST_CASE("an OBJ material neither the scene nor a .mtl describes is the default grey, and a later scene material of its name is refused clearly") {
     const std::string dir = scratch_folder("usemtl-undescribed");
     write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");

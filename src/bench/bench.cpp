@@ -69,12 +69,18 @@ int run_bench(const std::vector<std::string>& args) {
     BenchOptions o;
     std::vector<std::string> names;
     bool size_given = false, repeat_given = false, spp_given = false;
+    std::vector<std::string> given;  // the options seen so far
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> const std::string& {
             if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
             return args[++i];
         };
+        // An option given twice is refused: which one was meant is unclear.
+        if (a.size() > 1 && a[0] == '-') {
+            if (std::find(given.begin(), given.end(), a) != given.end()) throw std::invalid_argument(a + " is given twice: give it once");
+            given.push_back(a);
+        }
         if (a == "--size") {
             const std::string error = parse_frame_size(value(), o.width, o.height);
             if (!error.empty()) throw std::invalid_argument(error);

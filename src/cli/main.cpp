@@ -57,9 +57,10 @@ const char* explain_help =
 const char* render_help =
     "usage: texr render SCENE [options]\n"
     "\n"
-    "Renders the scene file SCENE and writes one frame.\n"
+    "Renders the scene file SCENE, writes one frame, and prints where it wrote it and\n"
+    "the frame time.\n"
     "\n"
-    "options:\n"
+    "options (each at most once):\n"
     "  -o, --output PATH   output file; .png or .ppm (binary P6) by its extension\n"
     "                      (default: out/<scene name>.png)\n"
     "  --size WxH          frame size in pixels, overriding the scene's 'size' line\n"
@@ -140,12 +141,18 @@ std::string default_output(const std::string& scene) {
 RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     RenderArguments args;
     bool output_given = false, tolerance_given = false;
+    std::vector<std::string> given;  // the options seen so far (-o as --output)
     for (std::size_t i = 0; i < argv.size(); ++i) {
         const std::string& a = argv[i];
         auto value = [&]() -> const std::string& {
             if (i + 1 >= argv.size()) throw UsageError{a + " needs a value"};
             return argv[++i];
         };
+        // An option given twice is refused, as in a scene file: which one was meant is unclear.
+        if (const std::string name = a == "-o" ? "--output" : a; name.size() > 1 && name[0] == '-') {
+            if (std::find(given.begin(), given.end(), name) != given.end()) throw UsageError{a + " is given twice: give it once"};
+            given.push_back(name);
+        }
         if (a == "-o" || a == "--output") args.output = value(), output_given = true;
         else if (a == "--size") parse_size(value(), args);
         else if (a == "--repeat") args.repeat = parse_positive(value(), "--repeat");
@@ -189,7 +196,9 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     const auto per_frame = [&](std::uint64_t v) { return v / std::uint64_t(frames); };
     std::printf("triangles in       %llu\n", (unsigned long long)per_frame(s.triangles_in));
     std::printf("triangles clipped  %llu\n", (unsigned long long)per_frame(s.triangles_clipped));
-    std::printf("triangles culled   %llu\n", (unsigned long long)per_frame(s.triangles_culled));
+    std::printf("triangles culled   %llu  (outside the view, facing away with cull back, or covering no pixel centre;"
+                " each piece of a clipped triangle counts)\n",
+                (unsigned long long)per_frame(s.triangles_culled));
     std::printf("triangles dropped  %llu  (NaN/Inf or zero area)\n", (unsigned long long)per_frame(s.triangles_dropped));
     std::printf("triangles set up   %llu\n", (unsigned long long)per_frame(s.triangles_set_up));
     std::printf("spans              %llu\n", (unsigned long long)per_frame(s.spans));

@@ -132,8 +132,9 @@ std::string base_taps(const Texture& t, double u, double v) {
     const auto a = reconstruct_detail::bilinear_taps(s.registration, s.wrap_u, u, w, image.inv_width());
     const auto b = reconstruct_detail::bilinear_taps(s.registration, s.wrap_v, v, h, image.inv_height());
     std::string out = "    bilinear reads columns " + std::to_string(a.i0) + " and " + std::to_string(a.i1) + format(" (f_u = %.5f), rows ", a.f) +
-                      std::to_string(b.i0) + " and " + std::to_string(b.i1) + format(" (f_v = %.5f), wrapped (-1: the border;\n", b.f) +
-                      "    row 0 is the image's bottom):\n";
+                      std::to_string(b.i0) + " and " + std::to_string(b.i1) + format(" (f_v = %.5f), after the wrap\n", b.f) +
+                      "    mode (row 0 is the image's bottom; with border wrap, -1 is a texel outside the image, which\n"
+                      "    reads the border colour):\n";
     out += "      t00 " + at(a.i0, b.i0) + " " + value(a.i0, b.i0) + "   t10 " + at(a.i1, b.i0) + " " + value(a.i1, b.i0) + "\n";
     out += "      t01 " + at(a.i0, b.i1) + " " + value(a.i0, b.i1) + "   t11 " + at(a.i1, b.i1) + " " + value(a.i1, b.i1) + "\n";
     out += "    along v in each column, then along u: c0 = t00 + f_v (t01 - t00), c1 = t10 + f_v (t11 - t10),\n"
