@@ -1610,6 +1610,48 @@ TEST_CASE("a PNG whose image data cannot hold its header's size is refused befor
     CHECK(r.exit_code == 0);
 }
 
+TEST_CASE("a PNG with empty IDAT chunks reads as the same PNG without them") {
+    // An empty IDAT is legal; stb_image 2.27 copied the first one from a null buffer (UBSan,
+    // found by fuzzing). A 4 x 4 RGB image, its rows (filter byte 0, then the texels) deflated
+    // by zlib, in one IDAT, then with empty IDATs before and after it.
+    const std::string dir = scratch_folder("png-empty-idat");
+    const auto chunk = [](const std::string& type, const std::string& data) {
+        std::string c;
+        const auto put32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) c += char((v >> (8 * k)) & 255); };
+        put32(std::uint32_t(data.size()));
+        c += type + data;
+        put32(std::uint32_t(crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(c.data() + 4), uInt(c.size() - 4))));
+        return c;
+    };
+    std::string rows;
+    for (int y = 0; y < 4; ++y) {
+        rows += '\0';
+        for (int i = 0; i < 12; ++i) rows += char(17 * y + 50 * i);
+    }
+    std::vector<unsigned char> deflated(compressBound(uLong(rows.size())));
+    uLongf deflated_size = uLongf(deflated.size());
+    REQUIRE(compress2(deflated.data(), &deflated_size, reinterpret_cast<const Bytef*>(rows.data()), uLong(rows.size()), 9) == Z_OK);
+    const std::string head = std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", std::string("\x00\x00\x00\x04\x00\x00\x00\x04\x08\x02\x00\x00\x00", 13));
+    const std::string data = chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size));
+    const std::string empty = chunk("IDAT", ""), end = chunk("IEND", "");
+    REQUIRE(empty.size() == 12);
+    RunResult r = render_texture_file(dir, "t.png", head + data + end);
+    REQUIRE(r.exit_code == 0);
+    const std::string frame = read_file(dir + "/out.png");
+    std::remove((dir + "/out.png").c_str());
+    r = render_texture_file(dir, "t.png", head + empty + data + empty + empty + end);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(read_file(dir + "/out.png") == frame);
+    std::remove((dir + "/out.png").c_str());
+    // Only empty IDATs: no image data at all.
+    r = render_texture_file(dir, "t.png", head + empty + empty + end);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("t.png: not a readable image") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
+}
+
 TEST_CASE("a TGA or Photoshop file shorter than its header asks for is refused before it is decoded") {
     // stb_image read such files as if zeros followed: 22 to 56 bytes claiming 16000 x 16000
     // took 6 to 11 s and 2 GB each. Small files written by hand (hex), whole, one byte short,

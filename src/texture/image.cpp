@@ -471,6 +471,23 @@ std::string short_png(const std::vector<unsigned char>& file) {
            "the file holds " + std::to_string(data) + ")";
 }
 
+// An empty IDAT chunk holds no image data, and a PNG may have one, but stb_image 2.27 copies
+// it with memcpy from a null buffer when it comes first (undefined behaviour, found by fuzzing
+// under UBSan). Such chunks are taken out of the file's bytes before stb_image reads them: the
+// same image data, in the same order.
+void drop_empty_png_data(std::vector<unsigned char>& file) {
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (file.size() < 8 || std::memcmp(file.data(), signature, 8) != 0) return;
+    for (std::size_t at = 8; at + 8 <= file.size();) {
+        const std::uint64_t length = std::uint64_t(file[at]) << 24 | std::uint64_t(file[at + 1]) << 16 | std::uint64_t(file[at + 2]) << 8 | file[at + 3];
+        if (std::memcmp(file.data() + at + 4, "IEND", 4) == 0 || length > file.size()) return;
+        if (length == 0 && std::memcmp(file.data() + at + 4, "IDAT", 4) == 0 && at + 12 <= file.size())
+            file.erase(file.begin() + std::ptrdiff_t(at), file.begin() + std::ptrdiff_t(at + 12));  // (its length, type and CRC)
+        else
+            at += 12 + std::size_t(length);
+    }
+}
+
 // The whole file, read once (a pipe can be read only once; stb_image then decodes from
 // memory). stb_image takes the length as an int: a file of 2 GiB or more is refused, by its
 // size before anything is read when it has one.
@@ -545,7 +562,8 @@ bool header_size(const std::vector<unsigned char>& file, int& width, int& height
 
 // The file's bytes live only while it is decoded (not while the rows are flipped).
 stb_decode::Pixels decode(const std::string& path) {
-    const std::vector<unsigned char> file = file_bytes(path);
+    std::vector<unsigned char> file = file_bytes(path);
+    drop_empty_png_data(file);
     if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_png(file); !cut.empty()) throw InputError(path, 0, cut);
