@@ -42,6 +42,18 @@ std::string small_jpeg(unsigned step) {
     return jpeg;
 }
 
+// A PNG chunk: its data's length (big-endian), type, data and CRC (zlib's crc32 of type and data).
+std::string png_chunk(const std::string& type, const std::string& data) {
+    std::string c;
+    const auto put32 = [&](std::uint32_t v) {
+        for (int k = 3; k >= 0; --k) c += char((v >> (8 * k)) & 255);
+    };
+    put32(std::uint32_t(data.size()));
+    c += type + data;
+    put32(std::uint32_t(crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(c.data() + 4), uInt(c.size() - 4))));
+    return c;
+}
+
 // Writes `bytes` to dir/name and renders good_scene with a quad textured by it into
 // dir/out.png (a run over 60 s fails: a hang is an error).
 RunResult render_texture_file(const std::string& dir, const std::string& name, const std::string& bytes) {
@@ -1594,17 +1606,9 @@ TEST_CASE("a PNG whose image data cannot hold its header's size is refused befor
     REQUIRE(compress2(deflated.data(), &deflated_size, reinterpret_cast<const Bytef*>(rows.data()), uLong(rows.size()), 9) == Z_OK);
     CAPTURE(deflated_size);
     CHECK(deflated_size < 60000);
-    const auto chunk = [](const std::string& type, const std::string& data) {
-        std::string c;
-        const auto put32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) c += char((v >> (8 * k)) & 255); };
-        put32(std::uint32_t(data.size()));
-        c += type + data;
-        put32(std::uint32_t(crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(c.data() + 4), uInt(c.size() - 4))));
-        return c;
-    };
     png = std::string("\x89PNG\r\n\x1a\n", 8) +
-          chunk("IHDR", std::string("\x00\x00\x10\x00\x00\x00\x10\x00\x08\x02\x00\x00\x00", 13)) +
-          chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size)) + chunk("IEND", "");
+          png_chunk("IHDR", std::string("\x00\x00\x10\x00\x00\x00\x10\x00\x08\x02\x00\x00\x00", 13)) +
+          png_chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size)) + png_chunk("IEND", "");
     r = render_with(png);
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
@@ -1615,14 +1619,6 @@ TEST_CASE("a PNG with empty IDAT chunks reads as the same PNG without them") {
     // found by fuzzing). A 4 x 4 RGB image, its rows (filter byte 0, then the texels) deflated
     // by zlib, in one IDAT, then with empty IDATs before and after it.
     const std::string dir = scratch_folder("png-empty-idat");
-    const auto chunk = [](const std::string& type, const std::string& data) {
-        std::string c;
-        const auto put32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) c += char((v >> (8 * k)) & 255); };
-        put32(std::uint32_t(data.size()));
-        c += type + data;
-        put32(std::uint32_t(crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(c.data() + 4), uInt(c.size() - 4))));
-        return c;
-    };
     std::string rows;
     for (int y = 0; y < 4; ++y) {
         rows += '\0';
@@ -1631,9 +1627,9 @@ TEST_CASE("a PNG with empty IDAT chunks reads as the same PNG without them") {
     std::vector<unsigned char> deflated(compressBound(uLong(rows.size())));
     uLongf deflated_size = uLongf(deflated.size());
     REQUIRE(compress2(deflated.data(), &deflated_size, reinterpret_cast<const Bytef*>(rows.data()), uLong(rows.size()), 9) == Z_OK);
-    const std::string head = std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", std::string("\x00\x00\x00\x04\x00\x00\x00\x04\x08\x02\x00\x00\x00", 13));
-    const std::string data = chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size));
-    const std::string empty = chunk("IDAT", ""), end = chunk("IEND", "");
+    const std::string head = std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", std::string("\x00\x00\x00\x04\x00\x00\x00\x04\x08\x02\x00\x00\x00", 13));
+    const std::string data = png_chunk("IDAT", std::string(reinterpret_cast<const char*>(deflated.data()), deflated_size));
+    const std::string empty = png_chunk("IDAT", ""), end = png_chunk("IEND", "");
     REQUIRE(empty.size() == 12);
     RunResult r = render_texture_file(dir, "t.png", head + data + end);
     REQUIRE(r.exit_code == 0);
