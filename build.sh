@@ -7,7 +7,7 @@
 #                     scene parser and the OBJ path (TEXR_FUZZ_SECONDS, default 20)
 #   ./build.sh bench  install what is missing, build (Release), run texr bench
 #   ./build.sh fuzz-images [SECONDS]  fuzz image loading and mip building (default 600 s);
-#                     not part of `test`: see README, "Fuzzing"
+#                     not part of `test`: see README, "Quick start"
 set -euo pipefail
 cd "$(dirname "$0")"
 

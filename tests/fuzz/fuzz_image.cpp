@@ -2,7 +2,7 @@
 // InputError; a loaded image of at most 2^20 texels gets its mip levels built and every
 // level's texels must be finite (the sanitizers watch the decoder and the downsampling).
 // Not run by `./build.sh test`: a find inside stb_image would fail CI for a bug texr cannot
-// mend at its root (see README, "Fuzzing"). Run it with `./build.sh fuzz-images`.
+// mend at its root (see README, "Quick start", on fuzzing image loading). Run it with `./build.sh fuzz-images`.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
