@@ -63,6 +63,7 @@ ScaleRow in_child(const std::function<ScaleRow()>& measure) {
 #ifdef __GLIBC__
     malloc_trim(0);
 #endif
+    release_worker_threads();  // (the child starts its own)
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);

@@ -32,6 +32,11 @@ Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats
 // after frame. The result is the same bytes as render's.
 void render(const Scene& scene, const RenderOptions& options, RenderStats& stats, Framebuffer& frame);
 
+// The renderer keeps its worker threads from frame to frame. This ends them (unless a frame
+// is being drawn); the next frame starts new ones. For a caller about to fork: a child of a
+// process with other threads may not safely start threads of its own.
+void release_worker_threads();
+
 // Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
 // y up, looking down -z, clip z in [-w, w]).
 glm::dmat4 view_matrix(const Camera& camera);
