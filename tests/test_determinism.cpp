@@ -153,45 +153,43 @@ TEST_CASE("frames are byte-identical for 1, 2 and 3 threads: meshes of several c
     }
 }
 
-TEST_CASE("frames rendered at once by several caller threads are the bytes of one render at a time") {
-    // The renderer keeps one pool of worker threads per process: one caller's frame gets it,
-    // the others start threads of their own while it is busy. Either way the same bytes.
+TEST_CASE("the pooled worker threads give the bytes of a 1-thread frame: several callers at once, and after a release") {
     const Scene scene = load_scene(testing::source_path("models/demo.scene"));
     RenderOptions options;
     options.width = 96, options.height = 72, options.threads = 1;
     RenderStats reference_stats;
     const Framebuffer reference = render(scene, options, reference_stats);
-    constexpr int callers = 3, frames = 4;
-    std::vector<int> same(callers, 0);
-    std::vector<std::thread> threads;
-    for (int c = 0; c < callers; ++c)
-        threads.emplace_back([&, c] {
-            RenderOptions o = options;
-            o.threads = 2 + c;  // 2, 3 and 4 workers
-            for (int f = 0; f < frames; ++f) {
+    SUBCASE("several callers at once") {
+        // The renderer keeps one pool of worker threads per process: one caller's frame gets
+        // it, the others start threads of their own while it is busy.
+        constexpr int callers = 3, frames = 4;
+        std::vector<int> same(callers, 0);
+        std::vector<std::thread> threads;
+        for (int c = 0; c < callers; ++c)
+            threads.emplace_back([&, c] {
+                RenderOptions o = options;
+                o.threads = 2 + c;  // 2, 3 and 4 workers
+                for (int f = 0; f < frames; ++f) {
+                    RenderStats stats;
+                    const Framebuffer fb = render(scene, o, stats);
+                    same[std::size_t(c)] += fb.color == reference.color && fb.depth == reference.depth;
+                }
+            });
+        for (std::thread& t : threads) t.join();
+        for (int c = 0; c < callers; ++c) CHECK(same[std::size_t(c)] == frames);
+    }
+    SUBCASE("release_worker_threads between frames: the next frames start new threads") {
+        release_worker_threads();  // with no pool made, or none left: nothing to do
+        for (int round = 0; round < 3; ++round) {
+            for (int threads : {2, 3}) {
+                options.threads = threads;
                 RenderStats stats;
-                const Framebuffer fb = render(scene, o, stats);
-                same[std::size_t(c)] += fb.color == reference.color && fb.depth == reference.depth;
+                const Framebuffer fb = render(scene, options, stats);
+                CHECK(fb.color == reference.color);
+                CHECK(fb.depth == reference.depth);
             }
-        });
-    for (std::thread& t : threads) t.join();
-    for (int c = 0; c < callers; ++c) CHECK(same[std::size_t(c)] == frames);
-}
-
-TEST_CASE("after release_worker_threads the next frames start new worker threads and give the same bytes") {
-    const Scene scene = load_scene(testing::source_path("models/demo.scene"));
-    RenderOptions options;
-    options.width = 64, options.height = 48, options.threads = 1;
-    RenderStats stats;
-    const Framebuffer reference = render(scene, options, stats);
-    release_worker_threads();  // with no pool made, or none left: nothing to do
-    for (int round = 0; round < 3; ++round) {
-        for (int threads : {2, 3}) {
-            options.threads = threads;
-            const Framebuffer fb = render(scene, options, stats);
-            CHECK(fb.color == reference.color);
+            release_worker_threads();
         }
-        release_worker_threads();
     }
 }
 
