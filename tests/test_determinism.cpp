@@ -1,7 +1,10 @@
 // The same scene and options give the same bytes, whatever the thread count.
+#include <algorithm>
 #include <cstring>
 #include <thread>
 #include <vector>
+
+#include <sched.h>
 
 #include <doctest/doctest.h>
 
@@ -191,6 +194,27 @@ TEST_CASE("the pooled worker threads give the bytes of a 1-thread frame: several
             release_worker_threads();
         }
     }
+}
+
+TEST_CASE("the default thread count is the number of cores this process may run on: 1 when pinned to one core") {
+    // sched_getaffinity(0) is the calling thread's set, so pinning this thread is what
+    // taskset -c does to a process.
+    cpu_set_t original;
+    REQUIRE(sched_getaffinity(0, sizeof original, &original) == 0);
+    const int allowed = CPU_COUNT(&original);
+    CHECK(usable_cores() == allowed);
+    CHECK(usable_cores() <= int(std::max(1u, std::thread::hardware_concurrency())));
+    std::vector<int> cpus;
+    for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+        if (CPU_ISSET(cpu, &original)) cpus.push_back(cpu);
+    for (std::size_t keep = 1; keep <= std::min<std::size_t>(2, cpus.size()); ++keep) {
+        cpu_set_t pinned;
+        CPU_ZERO(&pinned);
+        for (std::size_t i = 0; i < keep; ++i) CPU_SET(cpus[i], &pinned);
+        REQUIRE(sched_setaffinity(0, sizeof pinned, &pinned) == 0);
+        CHECK(usable_cores() == int(keep));
+    }
+    REQUIRE(sched_setaffinity(0, sizeof original, &original) == 0);
 }
 
 TEST_CASE("a frame drawn into a reused framebuffer is the frame render returns") {

@@ -135,7 +135,7 @@ std::shared_ptr<const Image> procedural_texture(int size) {
 }
 
 std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
-    const int threads = o.threads_given ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
+    const int threads = o.threads_given ? o.threads : usable_cores();
     std::vector<ScaleRow> rows;
     const double fb_bytes_per_pixel = sizeof(Color) + sizeof(float);
     const std::string plane_path = o.models + "/bench/plane.scene";

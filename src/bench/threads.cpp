@@ -24,7 +24,7 @@ struct ThreadRow {
 
 std::vector<ThreadRow> bench_threads(const BenchOptions& o) {
     std::vector<int> thread_counts = {1, 2};
-    if (int(std::thread::hardware_concurrency()) > 2) thread_counts.push_back(int(std::thread::hardware_concurrency()));
+    if (usable_cores() > 2) thread_counts.push_back(usable_cores());
     const Scene base = load_scene(o.models + "/bench/plane.scene");
     for (const Texture& t : base.textures) t.mipmap->build();
     // Every configuration (filter x thread count) is timed in interleaved rounds

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include <sched.h>
 #include <unistd.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -80,24 +81,51 @@ private:
 // on a VM (its idle virtual core must be woken by the host): the 1M-triangle terrain meets
 // a barrier every 4096 triangles, 245 a frame, and with a spin of 4000 loads (a few
 // microseconds) two threads took 105 ms a frame against one thread's 92; spinning up to 200
-// microseconds or more, 51 ms (1920x1080, this 2-core VM). With more workers than cores a
-// waiter sleeps at once: spinning would only keep the late worker off a core.
+// microseconds or more, 51 ms (1920x1080, this 2-core VM).
+//
+// A spinner keeps a core, so it spins only while the workers of every frame running in the
+// process (frame_workers) fit on the cores this process may use: with more, spinning would
+// only keep a late worker off a core. Two callers drawing 2-thread terrain frames at once
+// on 2 cores took 225-243 ms a frame with spinning waiters, 102-114 ms with waiters that
+// sleep at once; pinned to one core (taskset -c 0), 2 threads took 237-239 against 107 ms.
 constexpr int spin_microseconds = 500;
 
-template <class Done>
-bool spin_until(Done done, int workers) {
-    static const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
-    if (workers > cores) return done();
+std::atomic<int> frame_workers{0};
+
+// Counts `count` workers in frame_workers until it ends (or until they are taken off one by
+// one as they finish).
+class FrameWorkers {
+public:
+    explicit FrameWorkers(int count) : count_(count) { frame_workers.fetch_add(count_, std::memory_order_acq_rel); }
+    ~FrameWorkers() { frame_workers.fetch_sub(count_, std::memory_order_acq_rel); }
+    FrameWorkers(const FrameWorkers&) = delete;
+    FrameWorkers& operator=(const FrameWorkers&) = delete;
+
+private:
+    const int count_;
+};
+
+// Spins until done() or until may_spin() turns false or the time is up; returns done().
+template <class Done, class MaySpin>
+bool spin_until(Done done, MaySpin may_spin) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(spin_microseconds);
-    do {
+    while (may_spin()) {
         for (int spin = 0; spin < 64; ++spin) {
             if (done()) return true;
 #if defined(__x86_64__) || defined(__i386__)
             __builtin_ia32_pause();  // a spin-loop hint: less power, and the other hyperthread runs
 #endif
         }
-    } while (std::chrono::steady_clock::now() < until);
+        if (std::chrono::steady_clock::now() >= until) break;
+    }
     return done();
+}
+
+// A worker of a running frame spins while the frames' workers fit on the cores.
+template <class Done>
+bool spin_until(Done done) {
+    static const int cores = usable_cores();
+    return spin_until(done, [] { return frame_workers.load(std::memory_order_acquire) <= cores; });
 }
 
 // All workers wait here until every one has arrived: they spin, then sleep on a condition
@@ -113,7 +141,7 @@ public:
         const int generation = generation_.load(std::memory_order_acquire);
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            if (abandoned_) throw Abandoned{};
+            if (abandoned_.load(std::memory_order_relaxed)) throw Abandoned{};
             if (++arrived_ == count_) {  // the last to arrive releases the others
                 arrived_ = 0;
                 generation_.store(generation + 1, std::memory_order_release);
@@ -121,9 +149,13 @@ public:
                 return;
             }
         }
-        if (spin_until([&] { return generation_.load(std::memory_order_acquire) != generation; }, count_)) return;
-        std::unique_lock<std::mutex> lock(mutex_);
-        woken_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != generation || abandoned_; });
+        const auto released = [&] {
+            return generation_.load(std::memory_order_acquire) != generation || abandoned_.load(std::memory_order_acquire);
+        };
+        if (!spin_until(released)) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            woken_.wait(lock, released);
+        }
         if (generation_.load(std::memory_order_acquire) == generation) throw Abandoned{};
     }
 
@@ -131,7 +163,7 @@ public:
     void abandon() {
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            abandoned_ = true;
+            abandoned_.store(true, std::memory_order_release);
         }
         woken_.notify_all();
     }
@@ -141,7 +173,7 @@ private:
     std::mutex mutex_;
     std::condition_variable woken_;
     int arrived_ = 0;
-    bool abandoned_ = false;
+    std::atomic<bool> abandoned_{false};
     std::atomic<int> generation_{0};
 };
 
@@ -201,8 +233,13 @@ public:
             generation_.fetch_add(1, std::memory_order_release);
         }
         woken_.notify_all();
+        // The workers are counted after the job is published (a pool thread that stops
+        // spinning because it sees them counted then sees the job too); each pool thread takes
+        // itself off when its part is done, the caller when all are.
+        frame_workers.fetch_add(count - 1, std::memory_order_acq_rel);
+        const FrameWorkers caller(1);
         job(0);
-        if (spin_until([&] { return remaining_.load(std::memory_order_acquire) == 0; }, count)) return;
+        if (spin_until([&] { return remaining_.load(std::memory_order_acquire) == 0; })) return;
         std::unique_lock<std::mutex> lock(mutex_);
         finished_.wait(lock, [&] { return remaining_.load(std::memory_order_acquire) == 0; });
     }
@@ -220,9 +257,19 @@ private:
     }
 
     void loop(int index, unsigned seen) {
+        static const int cores = usable_cores();
+        bool needed = true;  // whether this thread worked in the last job
+        int last_count = 1;
         for (;;) {
+            // Waiting for the next job, a thread spins (frames often come back to back) only
+            // if it worked in the last job, that job's workers fitted on the cores, and the
+            // frames running now leave a core free. (Spare threads of a pool once grown to
+            // 16 spinning after every 2-thread frame made those frames 6.8 ms, not 1.9.)
             const auto next = [&] { return generation_.load(std::memory_order_acquire) != seen; };
-            if (!spin_until(next, count_hint_.load(std::memory_order_relaxed))) {
+            const auto may_spin = [&] {
+                return needed && last_count <= cores && frame_workers.load(std::memory_order_acquire) < cores;
+            };
+            if (!spin_until(next, may_spin)) {
                 std::unique_lock<std::mutex> lock(mutex_);
                 woken_.wait(lock, next);
             }
@@ -235,9 +282,10 @@ private:
                 seen = generation_.load(std::memory_order_acquire);
                 task = task_, job = job_, count = count_;
             }
-            count_hint_.store(count, std::memory_order_relaxed);
-            if (index >= count) continue;  // not needed in this frame
+            needed = index < count, last_count = count;
+            if (!needed) continue;
             task(job, index);
+            frame_workers.fetch_sub(1, std::memory_order_acq_rel);
             if (remaining_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
                 std::lock_guard<std::mutex> lock(mutex_);  // (so the caller cannot miss the notification)
                 finished_.notify_all();
@@ -256,13 +304,9 @@ private:
     bool stopping_ = false;  // (under mutex_) end the threads
     std::atomic<unsigned> generation_{0};
     std::atomic<int> remaining_{0};
-    std::atomic<int> count_hint_{1};  // the last job's worker count: whether waiting threads may spin
 };
 
-int thread_count(int requested) {
-    if (requested > 0) return requested;
-    return std::max(1, int(std::thread::hardware_concurrency()));
-}
+int thread_count(int requested) { return requested > 0 ? requested : usable_cores(); }
 
 // What one worker writes while the others run, on cache lines of its own (two workers'
 // vector ends and counters on one line made every push_back and every count a cache miss
@@ -291,6 +335,14 @@ constexpr std::size_t balanced_pieces = 64;
 }  // namespace
 
 void release_worker_threads() { WorkerPool::end(); }
+
+int usable_cores() {
+    // The cores this process may run on (taskset, a container's cpuset), which can be fewer
+    // than the machine's: hardware_concurrency counts them all.
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+    return std::max(1, int(std::thread::hardware_concurrency()));
+}
 
 Framebuffer render(const Scene& scene, const RenderOptions& options, RenderStats& stats) {
     Framebuffer fb(0, 0, Framebuffer::Uncleared{});
@@ -419,6 +471,7 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
         } release{pool};
         pool->run(workers, guarded);  // (a thread that cannot be started throws before any work)
     } else {  // another frame is using the pool: threads of this frame's own
+        const FrameWorkers counted(workers);
         std::vector<std::thread> threads;
         threads.reserve(std::size_t(workers - 1));
         try {

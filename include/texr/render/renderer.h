@@ -15,7 +15,7 @@ struct RenderOptions {
     // Texture ground truth: spp x spp stratified samples per pixel, each a bilinear lookup
     // in the base level at its own exact (u, v), box-filtered. 1 = the textures' own filters.
     int spp = 1;
-    // Worker threads; 0 = one per core. The frame is the same bytes for every count.
+    // Worker threads; 0 = one per core this process may use. The frame is the same bytes for every count.
     int threads = 0;
     // How (u, v) are computed along spans (raster/span_modes.h) and, for `adaptive`, the
     // largest error allowed in texels.
@@ -36,6 +36,10 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
 // is being drawn); the next frame starts new ones. For a caller about to fork: a child of a
 // process with other threads may not safely start threads of its own.
 void release_worker_threads();
+
+// The cores this process may run on (its CPU affinity: taskset, a container's cpuset), at
+// least 1. The default thread count.
+int usable_cores();
 
 // Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
 // y up, looking down -z, clip z in [-w, w]).
