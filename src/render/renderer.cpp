@@ -230,13 +230,13 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             task_ = task, job_ = &job, count_ = count;
             remaining_.store(count - 1, std::memory_order_relaxed);
+            // The pool threads are counted before they can see the job, so the count never
+            // dips below the workers running; each takes itself off when its part is done,
+            // and the caller when all are.
+            frame_workers.fetch_add(count - 1, std::memory_order_acq_rel);
             generation_.fetch_add(1, std::memory_order_release);
         }
         woken_.notify_all();
-        // The workers are counted after the job is published (a pool thread that stops
-        // spinning because it sees them counted then sees the job too); each pool thread takes
-        // itself off when its part is done, the caller when all are.
-        frame_workers.fetch_add(count - 1, std::memory_order_acq_rel);
         const FrameWorkers caller(1);
         job(0);
         if (spin_until([&] { return remaining_.load(std::memory_order_acquire) == 0; })) return;
