@@ -201,6 +201,10 @@ TEST_CASE("the default thread count is the number of cores this process may run 
     // taskset -c does to a process.
     cpu_set_t original;
     REQUIRE(sched_getaffinity(0, sizeof original, &original) == 0);
+    struct Restore {  // (also when a REQUIRE below fails: the other tests run on this thread)
+        const cpu_set_t& set;
+        ~Restore() { sched_setaffinity(0, sizeof set, &set); }
+    } restore{original};
     const int allowed = CPU_COUNT(&original);
     CHECK(usable_cores() == allowed);
     CHECK(usable_cores() <= int(std::max(1u, std::thread::hardware_concurrency())));
@@ -214,7 +218,6 @@ TEST_CASE("the default thread count is the number of cores this process may run 
         REQUIRE(sched_setaffinity(0, sizeof pinned, &pinned) == 0);
         CHECK(usable_cores() == int(keep));
     }
-    REQUIRE(sched_setaffinity(0, sizeof original, &original) == 0);
 }
 
 TEST_CASE("a frame drawn into a reused framebuffer is the frame render returns") {

@@ -84,13 +84,17 @@ private:
 // microseconds or more, 51 ms (1920x1080, this 2-core VM).
 //
 // A spinner keeps a core, so it spins only while the workers of every frame running in the
-// process (frame_workers) fit on the cores this process may use: with more, spinning would
+// process (frame_workers) fit on the cores (spin_cores): with more, spinning would
 // only keep a late worker off a core. Two callers drawing 2-thread terrain frames at once
 // on 2 cores took 225-243 ms a frame with spinning waiters, 102-114 ms with waiters that
 // sleep at once; pinned to one core (taskset -c 0), 2 threads took 237-239 against 107 ms.
 constexpr int spin_microseconds = 500;
 
 std::atomic<int> frame_workers{0};
+
+// The cores the thread that started the latest frame may run on (usable_cores, read once a
+// frame by the caller, so that every waiter of that frame compares with the same number).
+std::atomic<int> spin_cores{1};
 
 // Counts `count` workers in frame_workers until it ends (or until they are taken off one by
 // one as they finish).
@@ -124,8 +128,9 @@ bool spin_until(Done done, MaySpin may_spin) {
 // A worker of a running frame spins while the frames' workers fit on the cores.
 template <class Done>
 bool spin_until(Done done) {
-    static const int cores = usable_cores();
-    return spin_until(done, [] { return frame_workers.load(std::memory_order_acquire) <= cores; });
+    return spin_until(done, [] {
+        return frame_workers.load(std::memory_order_acquire) <= spin_cores.load(std::memory_order_relaxed);
+    });
 }
 
 // All workers wait here until every one has arrived: they spin, then sleep on a condition
@@ -181,7 +186,8 @@ private:
 // worker about 0.2 ms on this VM (waking the idle core): with the pool the 1 -> 2 thread
 // speed-up of the 1024x768 plane went from 1.71-1.74x to 1.79-1.81x (nearest) and from
 // 1.79-1.80x to 1.84x (bilinear), in alternated runs of texr bench threads. A pool thread
-// waits for the next frame's job as a barrier does: spinning, then asleep. The pool is made
+// waits for the next frame's job spinning, then asleep, if it worked in the last job (see
+// loop); a spare thread sleeps at once. The pool is made
 // when a frame first needs it, and lives until release_worker_threads (or the process) ends
 // it. A child of fork that did not release it first gets a pool of its own (the parent's
 // threads are not in the child).
@@ -223,7 +229,7 @@ public:
         while (int(threads_.size()) < count - 1) {
             const int index = int(threads_.size()) + 1;
             const unsigned current = generation_.load(std::memory_order_acquire);  // the jobs before it are not its
-            threads_.emplace_back([this, index, current] { loop(index, current); });
+            threads_.emplace_back([this, index, current, count] { loop(index, current, count); });
         }
         const Task task = [](void* j, int w) { (*static_cast<Job*>(j))(w); };
         {
@@ -256,10 +262,10 @@ private:
         return pool;
     }
 
-    void loop(int index, unsigned seen) {
-        static const int cores = usable_cores();
+    // `seen` is the job before this thread's first; `last_count` the count of workers that
+    // job will have (the thread is started for it).
+    void loop(int index, unsigned seen, int last_count) {
         bool needed = true;  // whether this thread worked in the last job
-        int last_count = 1;
         for (;;) {
             // Waiting for the next job, a thread spins (frames often come back to back) only
             // if it worked in the last job, that job's workers fitted on the cores, and the
@@ -267,6 +273,7 @@ private:
             // 16 spinning after every 2-thread frame made those frames 6.8 ms, not 1.9.)
             const auto next = [&] { return generation_.load(std::memory_order_acquire) != seen; };
             const auto may_spin = [&] {
+                const int cores = spin_cores.load(std::memory_order_relaxed);
                 return needed && last_count <= cores && frame_workers.load(std::memory_order_acquire) < cores;
             };
             if (!spin_until(next, may_spin)) {
@@ -306,8 +313,6 @@ private:
     std::atomic<int> remaining_{0};
 };
 
-int thread_count(int requested) { return requested > 0 ? requested : usable_cores(); }
-
 // What one worker writes while the others run, on cache lines of its own (two workers'
 // vector ends and counters on one line made every push_back and every count a cache miss
 // for the other core: setup ran 1.4x slower on two threads than on one): its counters, and
@@ -337,8 +342,9 @@ constexpr std::size_t balanced_pieces = 64;
 void release_worker_threads() { WorkerPool::end(); }
 
 int usable_cores() {
-    // The cores this process may run on (taskset, a container's cpuset), which can be fewer
-    // than the machine's: hardware_concurrency counts them all.
+    // The cores the calling thread may run on (its CPU affinity, which it inherits from the
+    // thread that started it: taskset, a container's cpuset), which can be fewer than the
+    // machine's: hardware_concurrency counts them all.
     cpu_set_t set;
     if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
     return std::max(1, int(std::thread::hardware_concurrency()));
@@ -384,7 +390,9 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     // way one worker draws all of a band's pixels in a chunk, in submission order (the
     // batches' pieces in triangle order), so the frame is the same bytes for any number of
     // workers.
-    const int workers = std::min(thread_count(options.threads), std::max(1, height / RowSet::band_rows));
+    const int cores = usable_cores();
+    spin_cores.store(cores, std::memory_order_relaxed);
+    const int workers = std::min(options.threads > 0 ? options.threads : cores, std::max(1, height / RowSet::band_rows));
     std::vector<WorkerSlot> slots(static_cast<std::size_t>(workers));
     Barrier barrier(workers);
     const int band_count = (height + RowSet::band_rows - 1) / RowSet::band_rows;

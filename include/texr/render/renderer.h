@@ -37,8 +37,9 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
 // process with other threads may not safely start threads of its own.
 void release_worker_threads();
 
-// The cores this process may run on (its CPU affinity: taskset, a container's cpuset), at
-// least 1. The default thread count.
+// The cores the calling thread may run on (its CPU affinity, inherited from the thread that
+// started it: taskset, a container's cpuset), at least 1. The default thread count, read
+// when each frame starts.
 int usable_cores();
 
 // Camera matrices for a frame of the given aspect ratio (OpenGL conventions: right-handed,
