@@ -206,6 +206,30 @@ TEST_CASE("Lambert at extreme scales: directions of 1e300 and 1e-300, objects sc
     }
 }
 
+TEST_CASE("a point light 1e155 away lights as a directional light from its direction") {
+    // |light - P|^2 is about 2e310, beyond a double: normalising it gave (0, 0, 0), no light.
+    // From 1e155 units the directions to the floor's points differ by less than 1e-154, so
+    // each pixel is ambient + 1/sqrt 2, as under "light directional 0 -1 -1" (the first test).
+    const std::string scene = camera +
+                              "ambient 0.5 0.5 0.5\nmaterial white color 1 1 1 lighting lambert\n"
+                              "quad material white v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1\n";
+    const double expected = ambient + 1.0 / std::sqrt(2.0);
+    for (const char* position : {"0 1e155 1e155", "0 1e300 1e300"}) {
+        CAPTURE(position);
+        const Framebuffer fb = render_text(scene + "light point " + position + " color 1 1 1\n");
+        for (const int at : {0, 16, 31}) CHECK(fb.color[fb.index(at, at)].x == doctest::Approx(expected).epsilon(1e-5));
+    }
+    // unit_direction itself, at lengths whose squares are out of range, and a usual one.
+    for (const double s : {1e-200, 1e-160, 0.5, 1e160, 1e300}) {
+        CAPTURE(s);
+        const glm::dvec3 d = unit_direction(glm::dvec3(3.0 * s, 0.0, -4.0 * s));
+        CHECK(d.x == doctest::Approx(0.6).epsilon(1e-15));
+        CHECK(d.y == 0.0);
+        CHECK(d.z == doctest::Approx(-0.8).epsilon(1e-15));
+    }
+    CHECK(std::isnan(unit_direction(glm::dvec3(0.0)).x));
+}
+
 TEST_CASE("an infinite lit colour times no light is written as 0, not NaN") {
     // A float texel of 1e38 times a material colour of 10000 is infinite; lambert with no
     // light and no ambient multiplies it by 0 (NaN in IEEE arithmetic).

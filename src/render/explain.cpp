@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "texr/core/scaling.h"
 #include "texr/texture/ewa.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
@@ -169,7 +170,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
             for (std::size_t k = 0; k < scene.lights.size(); ++k) {
                 const Light& light = scene.lights[k];
                 glm::dvec3 to_light = -light.vector;
-                if ((needs & need_world_position) && light.kind == Light::Kind::point) to_light = glm::normalize(light.vector - world);
+                if ((needs & need_world_position) && light.kind == Light::Kind::point) to_light = unit_direction(light.vector - world);
                 const double cosine = std::max(0.0, glm::dot(n, to_light));
                 irradiance += light.color * float(cosine);
                 // (+ 0.0 turns -0 into 0 for printing)

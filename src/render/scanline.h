@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <utility>
 
+#include "texr/core/scaling.h"
 #include "texr/raster/edges.h"
 #include "texr/raster/homography.h"
 #include "texr/raster/span_modes.h"
@@ -87,7 +88,7 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
             for (const Light& light : d.scene.lights) {
                 glm::dvec3 to_light = -light.vector;
                 if constexpr ((N & need_world_position) != 0)
-                    if (light.kind == Light::Kind::point) to_light = glm::normalize(light.vector - world);
+                    if (light.kind == Light::Kind::point) to_light = unit_direction(light.vector - world);
                 irradiance += light.color * float(std::max(0.0, glm::dot(n, to_light)));
             }
         }
