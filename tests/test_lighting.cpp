@@ -230,6 +230,24 @@ TEST_CASE("a point light 1e155 away lights as a directional light from its direc
     CHECK(std::isnan(unit_direction(glm::dvec3(0.0)).x));
 }
 
+TEST_CASE("a surface scaled unevenly by 1e-200 or 1e160 is lit as one scaled by 1") {
+    // The floor y = 0 scaled along y by 1e-200 (or along x and z by 1e160, seen from 1e150 times as
+    // far) is the same floor; its normals (inverse transpose) are (0, 1e200, 0) before the
+    // power-of-two rescale of the largest entry, which leaves them far beyond 1: squared,
+    // they overflowed, normalised to 0, and the floor was unlit. Lit along (0, -1, -1):
+    // ambient + 1 / sqrt 2 everywhere.
+    const double expected = ambient + 1.0 / std::sqrt(2.0);
+    const std::string materials = "ambient 0.5 0.5 0.5\nmaterial white color 1 1 1 lighting lambert\n"
+                                  "light directional 0 -1 -1 color 1 1 1\n";
+    const std::string floor = "quad material white v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1";
+    const Framebuffer thin = render_text(camera + materials + floor + " scale 1 1e-200 1\n");
+    const Framebuffer wide = render_text(
+        "size 32 32\ncamera eye 0 3e150 0 target 0 0 0 up 0 0 -1 fov 90 near 1e149 far 1e152\n" + materials + floor +
+        " scale 1e160 1 1e160\n");
+    for (const Framebuffer* fb : {&thin, &wide})
+        for (const int at : {0, 16, 31}) CHECK(fb->color[fb->index(at, at)].x == doctest::Approx(expected).epsilon(1e-5));
+}
+
 TEST_CASE("an infinite lit colour times no light is written as 0, not NaN") {
     // A float texel of 1e38 times a material colour of 10000 is infinite; lambert with no
     // light and no ambient multiplies it by 0 (NaN in IEEE arithmetic).

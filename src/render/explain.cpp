@@ -164,7 +164,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
         Color irradiance = scene.ambient;
         out += "    irradiance = ambient " + rgb(scene.ambient);
         if (needs & need_normal) {
-            const glm::dvec3 n = glm::normalize(over_q(e.normal));
+            const glm::dvec3 n = unit_direction(over_q(e.normal));
             const glm::dvec3 world = over_q(e.world);
             out += format(", N = (%.5f, %.5f, %.5f) (its plane over w, / q, normalised)\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
             for (std::size_t k = 0; k < scene.lights.size(); ++k) {

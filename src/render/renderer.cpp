@@ -93,7 +93,8 @@ constexpr int spin_microseconds = 500;
 std::atomic<int> frame_workers{0};
 
 // The cores the thread that started the latest frame may run on (usable_cores, read once a
-// frame by the caller, so that every waiter of that frame compares with the same number).
+// frame by the caller, so that the waiters of a frame usually compare with the same number;
+// a frame started by another caller meanwhile changes only whether they spin).
 std::atomic<int> spin_cores{1};
 
 // Counts `count` workers in frame_workers until it ends (or until they are taken off one by

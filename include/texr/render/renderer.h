@@ -15,7 +15,7 @@ struct RenderOptions {
     // Texture ground truth: spp x spp stratified samples per pixel, each a bilinear lookup
     // in the base level at its own exact (u, v), box-filtered. 1 = the textures' own filters.
     int spp = 1;
-    // Worker threads; 0 = one per core this process may use. The frame is the same bytes for every count.
+    // Worker threads; 0 = one per core the calling thread may use (usable_cores). The frame is the same bytes for every count.
     int threads = 0;
     // How (u, v) are computed along spans (raster/span_modes.h) and, for `adaptive`, the
     // largest error allowed in texels.
