@@ -1,10 +1,12 @@
 // The same scene and options give the same bytes, whatever the thread count.
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <thread>
 #include <vector>
 
 #include <sched.h>
+#include <sys/types.h>
 
 #include <doctest/doctest.h>
 
@@ -222,6 +224,48 @@ TEST_CASE("the default thread count is the number of cores this process may run 
         REQUIRE(sched_setaffinity(0, sizeof pinned, &pinned) == 0);
         CHECK(usable_cores() == int(keep));
     }
+}
+
+TEST_CASE("the pool's threads follow the caller's cores: a pool grown while pinned to one core is unpinned with it") {
+    // Every thread of this process (this one and the pool's two) after a 3-thread frame drawn
+    // pinned to one core, then one drawn with the thread's own cores again: each thread may
+    // run on all of those cores. (A thread keeps the affinity of the thread that started it.)
+    cpu_set_t original;
+    REQUIRE(sched_getaffinity(0, sizeof original, &original) == 0);
+    struct Restore {
+        const cpu_set_t& set;
+        ~Restore() { sched_setaffinity(0, sizeof set, &set); }
+    } restore{original};
+    if (CPU_COUNT(&original) < 2) {
+        MESSAGE("skipped: this thread may run on one core only");
+        return;
+    }
+    const Scene scene = load_scene(testing::source_path("models/demo.scene"));
+    RenderOptions options;
+    options.width = 64, options.height = 48, options.threads = 3;
+    RenderStats stats;
+    release_worker_threads();  // a pool made from here on
+    int first = 0;
+    while (!CPU_ISSET(first, &original)) ++first;
+    cpu_set_t pinned;
+    CPU_ZERO(&pinned);
+    CPU_SET(first, &pinned);
+    REQUIRE(sched_setaffinity(0, sizeof pinned, &pinned) == 0);
+    const Framebuffer reference = render(scene, options, stats);
+    REQUIRE(sched_setaffinity(0, sizeof original, &original) == 0);
+    const Framebuffer unpinned = render(scene, options, stats);
+    CHECK(unpinned.color == reference.color);
+    int threads = 0;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+        const pid_t tid = pid_t(std::stol(task.path().filename().string()));
+        cpu_set_t set;
+        REQUIRE(sched_getaffinity(tid, sizeof set, &set) == 0);
+        CAPTURE(tid);
+        CHECK(CPU_EQUAL(&set, &original));
+        ++threads;
+    }
+    CHECK(threads >= 3);  // this one and the pool's two
+    release_worker_threads();
 }
 
 TEST_CASE("a frame drawn into a reused framebuffer is the frame render returns") {

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include <pthread.h>
 #include <sched.h>
 #include <unistd.h>
 
@@ -227,7 +228,8 @@ public:
     // thread cannot be started.
     template <class Job>
     void run(int count, Job& job) {
-        while (int(threads_.size()) < count - 1) {
+        follow_caller_affinity();
+        while (int(threads_.size()) < count - 1) {  // (a new thread inherits the caller's CPUs)
             const int index = int(threads_.size()) + 1;
             const unsigned current = generation_.load(std::memory_order_acquire);  // the jobs before it are not its
             threads_.emplace_back([this, index, current, count] { loop(index, current, count); });
@@ -301,7 +303,22 @@ private:
         }
     }
 
+    // The pool's threads run on the CPUs of the caller drawing with them: a thread keeps the
+    // CPU affinity of the thread that started it, so a pool grown by a caller pinned to one
+    // core would otherwise draw a later, unpinned caller's frames on that one core, its
+    // workers spinning against each other. The threads are moved when a caller's set differs
+    // from the one they were given (a failure to move them costs only speed).
+    void follow_caller_affinity() {
+        cpu_set_t set;
+        if (sched_getaffinity(0, sizeof set, &set) != 0) return;
+        if (affinity_known_ && CPU_EQUAL(&set, &affinity_)) return;
+        for (std::thread& t : threads_) pthread_setaffinity_np(t.native_handle(), sizeof set, &set);
+        affinity_ = set, affinity_known_ = true;
+    }
+
     const pid_t owner_;
+    cpu_set_t affinity_;  // (touched only by the caller holding busy_)
+    bool affinity_known_ = false;
     std::atomic<bool> busy_{false};
     std::vector<std::thread> threads_;  // (touched only by the caller holding busy_)
     std::mutex mutex_;
