@@ -15,6 +15,7 @@
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/core/scaling.h"
+#include "texr/render/explain.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 
@@ -281,4 +282,26 @@ TEST_CASE("unit_scale_exponent brings the largest value to 1 or more and below 2
     CHECK(unit_scale_exponent(0.0) == 0);
     CHECK(unit_scale_exponent(std::numeric_limits<double>::infinity()) == 0);
     CHECK(unit_scale_exponent(std::nan("")) == 0);
+}
+
+TEST_CASE("texr explain finds the same light for a point light 1e155 away and for normals of 1e200") {
+    // The explained pixel's story recomputes N and L: the floor's N = (0, 1, 0) and, from a
+    // light 1e155 along (0, 1, 1) or a directional light along (0, -1, -1), N . L = 1 / sqrt 2.
+    const std::string materials = "ambient 0.5 0.5 0.5\nmaterial white color 1 1 1 lighting lambert\n";
+    const std::string floor = "quad material white v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1";
+    for (const std::string& text : {camera + materials + floor + "\nlight point 0 1e155 1e155 color 1 1 1\n",
+                                    camera + materials + floor + " scale 1 1e-200 1\nlight directional 0 -1 -1 color 1 1 1\n"}) {
+        CAPTURE(text);
+        std::istringstream in(text);
+        const Scene scene = parse_scene(in, "lighting.scene");
+        RenderOptions options;
+        options.explain_x = 16, options.explain_y = 16;
+        RenderStats stats;
+        const Framebuffer fb = render(scene, options, stats);
+        REQUIRE(fb.explanation);
+        const std::string story = describe(*fb.explanation, scene);
+        CAPTURE(story);
+        CHECK(story.find("N = (0.00000, 1.00000, 0.00000)") != std::string::npos);
+        CHECK(story.find("x max(0, N . L) = x 0.70711") != std::string::npos);
+    }
 }
