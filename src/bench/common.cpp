@@ -77,6 +77,10 @@ void time_interleaved(std::vector<TimedCase>& cases, int repeat) {
     for (int r = 0; r < repeat; ++r)
         for (std::size_t i = 0; i < cases.size(); ++i) {
             TimedCase& c = cases[i];
+            if (cases.size() > 1) {  // (see common.h)
+                RenderStats warm;
+                render(*c.scene, c.options, warm, frame_of(i));
+            }
             c.stats = RenderStats{};
             const auto start = Clock::now();
             render(*c.scene, c.options, c.stats, frame_of(i));

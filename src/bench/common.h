@@ -30,9 +30,14 @@ double median(std::vector<double> v);
 // last frame's counters (time_interleaved with one configuration).
 double timed_median(const Scene& scene, const RenderOptions& options, int repeat, RenderStats& stats);
 // Several configurations timed in interleaved rounds: one warm-up frame each, then `repeat`
-// rounds in which each renders one frame; the median of each. A slow spell of a shared
-// host (often seconds long) then falls on every configuration alike, so the ratios between
-// them hold far better than when each is timed in a block of its own.
+// rounds in which each renders an untimed frame and then a timed one; the median of each.
+// A slow spell of a shared host (often seconds long) then falls on every configuration
+// alike, so the ratios between them hold far better than when each is timed in a block of
+// its own. The untimed frame gives each timed frame the caches a renderer drawing frame
+// after frame would have, whatever configuration came before it: with only timed frames,
+// the span modes' `adaptive`, which follows `affine` (whose wrong coordinates read other
+// texels), took 1.02-1.04x `incremental`'s time on the grazing square, with the frame
+// before 1.006-1.01x (their instruction counts are within 1%).
 struct TimedCase {
     const Scene* scene = nullptr;
     RenderOptions options;
