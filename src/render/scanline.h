@@ -75,7 +75,8 @@ struct TriangleSetup {
     std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
 };
 
-template <Needs N>
+// `ldr_texel`: the texel is an 8-bit texture's, each channel in [0, 1] (the short paths).
+template <Needs N, bool ldr_texel = false>
 Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal, const glm::dvec3& color,
             const glm::dvec3& world) {
     Color c = d.material.color;
@@ -96,7 +97,11 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     }
     (void)texel, (void)normal, (void)color, (void)world;
     // An infinite texel (a float HDR texel times a bright material) times no light is NaN;
-    // such a pixel is written as 0, the limit of its light, not as NaN.
+    // such a pixel is written as 0, the limit of its light, not as NaN. An 8-bit texel
+    // cannot make one: material and light colours are at most max_color (linear 3.5e9), so
+    // every product and sum here is finite, and the test is skipped (it was about a tenth
+    // of a nearest-filtered plane's frame).
+    if constexpr (ldr_texel) return c;
     return {c.x == c.x ? c.x : 0.0f, c.y == c.y ? c.y : 0.0f, c.z == c.z ? c.z : 0.0f};
 }
 
@@ -275,7 +280,7 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
         for (int k = 0; k < n; ++k) {  // pass 3
             const Color4 texel = short_path_lookup<P>(t, us[k], vs[k], footprint ? lambdas[k] : 0.0, texels);
             const glm::dvec3 normal_k = lit ? normals[k] * qs[k] : glm::dvec3(0.0);
-            color_row[xs[k]] = shade<N>(d, texel, normal_k, glm::dvec3(0.0), glm::dvec3(0.0));
+            color_row[xs[k]] = shade<N, true>(d, texel, normal_k, glm::dvec3(0.0), glm::dvec3(0.0));
         }
         shaded += std::uint64_t(n);
     }
@@ -352,7 +357,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         texel = short_path_lookup<P>(short_path, u, v, lambda, texels);
                     }
                 }
-                color_row[x] = shade<N>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
+                color_row[x] = shade<N, !general>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
                 ++shaded;
             }
             depth.advance();
