@@ -23,6 +23,8 @@ struct LdrLevel {
     double width = 0.0, height = 0.0;      // for u * width
     std::int64_t mask_u = 0, mask_v = 0;   // width - 1, height - 1
     std::size_t row_bytes = 0;
+    int row_shift = 0;                     // log2(row_bytes): rows are addressed by it on the short
+                                           // paths, whose widths are powers of two
 };
 
 // Linear RGBA of the 8-bit texel at t: colour through the decode table, alpha as k / 255.
@@ -90,8 +92,10 @@ public:
 
     // The view of an 8-bit image (see LdrLevel).
     LdrLevel ldr_level() const {
+        int shift = 0;
+        while ((std::size_t(1) << (shift + 1)) <= std::size_t(width_) * 4) ++shift;
         return {texels_8_.data(), decode_, double(width_), double(height_), std::int64_t(width_) - 1,
-                std::int64_t(height_) - 1, std::size_t(width_) * 4};
+                std::int64_t(height_) - 1, std::size_t(width_) * 4, shift};
     }
 
 private:

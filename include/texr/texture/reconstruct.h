@@ -98,7 +98,7 @@ namespace reconstruct_detail {
 // short_path_limit (the caller has checked: per lookup in sample_nearest_repeat_pow2, per
 // span in the span walk).
 [[gnu::always_inline]] inline Color4 nearest_in(const LdrLevel& l, double u, double v) {
-    return decode_ldr_texel(l.texels + std::size_t(floor_to_int64(v * l.height) & l.mask_v) * l.row_bytes +
+    return decode_ldr_texel(l.texels + (std::size_t(floor_to_int64(v * l.height) & l.mask_v) << l.row_shift) +
                                 std::size_t(floor_to_int64(u * l.width) & l.mask_u) * 4,
                             l.decode);
 }
@@ -155,10 +155,17 @@ namespace reconstruct_detail {
 // The short path's bilinear lookup on level l, under the same condition as nearest_in.
 [[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
     const double x = u * l.width - 0.5, y = v * l.height - 0.5;
-    const std::int64_t i = floor_to_int64(x), j = floor_to_int64(y);
-    return blend_ldr_texels(l.texels + std::size_t(j & l.mask_v) * l.row_bytes, l.texels + std::size_t((j + 1) & l.mask_v) * l.row_bytes,
-                            std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, l.decode,
-                            float(x - double(i)), float(y - double(j)));
+    // floor and fraction from one truncation: x - trunc(x) is exact, and adding 1 when x is
+    // below its truncation rounds the same real number that x - floor(x) rounds.
+    const std::int64_t ti = static_cast<std::int64_t>(x), tj = static_cast<std::int64_t>(y);
+    const double di = double(ti), dj = double(tj);
+    const bool below_x = di > x, below_y = dj > y;
+    const std::int64_t i = ti - below_x, j = tj - below_y;
+    const double fx = (x - di) + (below_x ? 1.0 : 0.0), fy = (y - dj) + (below_y ? 1.0 : 0.0);
+    // (the short paths' levels are powers of two: a row is 2^row_shift bytes)
+    return blend_ldr_texels(l.texels + (std::size_t(j & l.mask_v) << l.row_shift),
+                            l.texels + (std::size_t((j + 1) & l.mask_v) << l.row_shift), std::size_t(i & l.mask_u) * 4,
+                            std::size_t((i + 1) & l.mask_u) * 4, l.decode, float(fx), float(fy));
 }
 
 [[gnu::always_inline]] inline Color4 sample_bilinear_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
