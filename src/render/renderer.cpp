@@ -9,12 +9,15 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
 
 #include <pthread.h>
+#include <fcntl.h>
 #include <sched.h>
 #include <unistd.h>
 
@@ -127,11 +130,79 @@ bool spin_until(Done done, MaySpin may_spin) {
     return done();
 }
 
-// A worker of a running frame spins while the frames' workers fit on the cores.
+// Another process running on the same cores makes spinning a loss even when this process's
+// workers fit on them: a spinner keeps a core that the late worker, or the other process,
+// could use. Two texr processes each drawing 2-thread terrain frames on 2 cores took 241-247
+// ms a frame, against 107-109 ms for their 1-thread frames. A worker that finds it has
+// waited for a core (the run-queue delay the kernel keeps for each thread, in
+// /proc/thread-self/schedstat) for more than contended_wait since its last look, at most
+// once per contended_check, stops every waiter of the process from spinning for the next
+// spin_pause. (Two other signals were measured and dropped: a spin that ran its whole time,
+// which a worker slow to wake from sleep also causes, so the pauses chained; and any rise in
+// the involuntary context switches, which a lone process also shows before 1-5% of its
+// waits. docs/benchmark-history.md has the numbers.)
+constexpr auto contended_check = std::chrono::milliseconds(1);
+constexpr long long contended_wait_ns = 200000;  // 0.2 ms
+constexpr auto spin_pause = std::chrono::milliseconds(20);
+std::atomic<std::int64_t> spin_paused_until{0};  // steady_clock ticks
+
+bool spin_paused() {
+    return std::chrono::steady_clock::now().time_since_epoch().count() < spin_paused_until.load(std::memory_order_relaxed);
+}
+
+// The calling thread's run-queue delay so far, in ns; -1 where the kernel does not say.
+// (The file is opened once per thread, and again in a child of fork, whose inherited
+// descriptor would name the parent's thread.)
+class RunDelay {
+public:
+    RunDelay() = default;
+    ~RunDelay() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    RunDelay(const RunDelay&) = delete;
+    RunDelay& operator=(const RunDelay&) = delete;
+    long long read() {
+        if (owner_ != ::getpid()) {
+            if (fd_ >= 0) ::close(fd_);
+            fd_ = ::open("/proc/thread-self/schedstat", O_RDONLY | O_CLOEXEC);
+            owner_ = ::getpid();
+        }
+        if (fd_ < 0) return -1;
+        char text[128];
+        const ssize_t n = ::pread(fd_, text, sizeof text - 1, 0);
+        if (n <= 0) return -1;
+        text[n] = '\0';
+        long long on_cpu = 0, waiting = 0;  // "<ns on a core> <ns runnable, waiting for one> <slices>"
+        return std::sscanf(text, "%lld %lld", &on_cpu, &waiting) == 2 ? waiting : -1;
+    }
+
+private:
+    int fd_ = -1;
+    pid_t owner_ = 0;  // the process that opened fd_ (0: none yet)
+};
+
+// Called by a worker as it starts to wait.
+void note_contention() {
+    thread_local RunDelay delay;
+    thread_local long long last = -1;
+    thread_local std::chrono::steady_clock::time_point next_look{};
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_look) return;
+    next_look = now + contended_check;
+    const long long waited = delay.read();
+    if (waited < 0) return;
+    if (last >= 0 && waited - last > contended_wait_ns)
+        spin_paused_until.store((now + spin_pause).time_since_epoch().count(), std::memory_order_relaxed);
+    last = waited;
+}
+
+// A worker of a running frame spins while the frames' workers fit on the cores and no pause
+// is on.
 template <class Done>
 bool spin_until(Done done) {
+    note_contention();
     return spin_until(done, [] {
-        return frame_workers.load(std::memory_order_acquire) <= spin_cores.load(std::memory_order_relaxed);
+        return frame_workers.load(std::memory_order_acquire) <= spin_cores.load(std::memory_order_relaxed) && !spin_paused();
     });
 }
 
@@ -277,8 +348,9 @@ private:
             const auto next = [&] { return generation_.load(std::memory_order_acquire) != seen; };
             const auto may_spin = [&] {
                 const int cores = spin_cores.load(std::memory_order_relaxed);
-                return needed && last_count <= cores && frame_workers.load(std::memory_order_acquire) < cores;
+                return needed && last_count <= cores && frame_workers.load(std::memory_order_acquire) < cores && !spin_paused();
             };
+            if (needed) note_contention();
             if (!spin_until(next, may_spin)) {
                 std::unique_lock<std::mutex> lock(mutex_);
                 woken_.wait(lock, next);
