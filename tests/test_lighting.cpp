@@ -305,3 +305,37 @@ TEST_CASE("texr explain finds the same light for a point light 1e155 away and fo
         CHECK(story.find("x max(0, N . L) = x 0.70711") != std::string::npos);
     }
 }
+
+TEST_CASE("a scene built in code with colours or light vectors beyond a parsed scene's still shades no NaN on the short paths") {
+    // A black 8-bit texture (the short path: nearest, repeat, power of two) under lambert: the
+    // material colour, a light's colour or a directional light's vector made huge or infinite
+    // (the parser refuses these; render() takes any Scene) gives inf times 0 = NaN, which
+    // is written as 0. The short path gives the general path's frame (capture_uv sends every
+    // span to the general path, which always tests for NaN).
+    const std::string dir = testing::scratch_folder("short-path-nan");
+    const unsigned char black[4 * 4] = {};
+    REQUIRE(stbi_write_png((dir + "/black.png").c_str(), 2, 2, 4, black, 8));
+    const std::string text = camera + "ambient 0.5 0.5 0.5\ntexture t file " + dir + "/black.png filter nearest\n"
+                             "material m texture t lighting lambert\nlight directional 0 -1 -1 color 1 1 1\n"
+                             "quad material m v -4 0 4 0 0 v 4 0 4 1 0 v 4 0 -4 1 1 v -4 0 -4 0 1\n";
+    const float inf = std::numeric_limits<float>::infinity();
+    for (int variant = 0; variant < 3; ++variant) {
+        CAPTURE(variant);
+        std::istringstream in(text);
+        Scene scene = parse_scene(in, "lighting.scene");
+        if (variant == 0) scene.materials[0].color = Color(inf);
+        if (variant == 1) scene.lights[0].color = Color(3e38f), scene.lights.push_back(scene.lights[0]);
+        if (variant == 2) scene.lights[0].vector = glm::dvec3(0.0, -1e300, -1e300);
+        RenderOptions short_path, general;
+        general.capture_uv = true;
+        RenderStats stats;
+        const Framebuffer a = render(scene, short_path, stats), b = render(scene, general, stats);
+        std::size_t nan = 0, differ = 0;
+        for (std::size_t i = 0; i < a.color.size(); ++i) {
+            nan += std::isnan(a.color[i].x) || std::isnan(a.color[i].y) || std::isnan(a.color[i].z);
+            differ += !(a.color[i] == b.color[i]);
+        }
+        CHECK(nan == 0);
+        CHECK(differ == 0);
+    }
+}

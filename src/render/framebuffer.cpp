@@ -57,9 +57,7 @@ void Framebuffer::clear_rows(int first, int last, Color background) {
     // thread and 1.38 -> 1.17 ms on 2 with ordinary stores; at 3840x2160 (133 MB) they were
     // 4% slower (25.1 -> 26.2 ms), and at 1920x1080 (33 MB) 2% slower on 1 thread, 5% faster
     // on 2. The limit is set below 33 MB, where one thread already loses. (Those are frames
-    // drawn back to back into one framebuffer, as `texr render --repeat` and texr bench
-    // threads draw them. texr bench filters, which rotates through eight 12.6 MB buffers,
-    // none of them in the cache when it is cleared, timed the same either way.)
+    // drawn back to back into one framebuffer, as `texr render --repeat` draws them.)
     constexpr std::size_t cached_clear_bytes = std::size_t(16) << 20;
     const std::size_t frame_bytes = depth.size() * (sizeof(float) + sizeof(Color));
     const auto fill_rows = frame_bytes <= cached_clear_bytes ? &fill<false> : &fill<true>;

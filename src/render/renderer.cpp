@@ -59,7 +59,9 @@ public:
     RasterStage(const Scene& scene, const std::vector<Needs>& needs, const RenderOptions& options, Framebuffer& fb,
                 RenderStats& stats)
         : scene_(scene), needs_(needs), options_(options), fb_(fb), stats_(stats),
-          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {}
+          u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {
+        for (const Material& m : scene.materials) finite_.push_back(shading_stays_finite(scene, m));
+    }
 
     void draw(const PreparedPiece& p, const RowSet& rows) {
         if (rows.first_owned(p.s.first_row) > p.s.last_row) return;  // none of its rows are in the set
@@ -67,7 +69,8 @@ public:
         PixelExplanation* explain = fb_.explanation && rows.owns(fb_.explanation->y) ? fb_.explanation.get() : nullptr;
         const DrawContext d{scene_, material, material.texture >= 0 ? &scene_.textures[std::size_t(material.texture)] : nullptr,
                             std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,
-                            u_scratch_.data(), v_scratch_.data(), explain, p.object, p.material, p.triangle, p.clipped};
+                            u_scratch_.data(), v_scratch_.data(), explain, p.object, p.material, p.triangle, p.clipped,
+                            finite_[std::size_t(p.material)] != 0};
         walk_table[needs_[std::size_t(p.material)]](d, p.s, rows, fb_, stats_);
     }
 
@@ -78,6 +81,7 @@ private:
     Framebuffer& fb_;
     RenderStats& stats_;
     std::vector<double> u_scratch_, v_scratch_;
+    std::vector<char> finite_;  // per material: shading_stays_finite
 };
 
 // Waiting for other workers: spin for up to spin_microseconds, checking `done` (the others
@@ -135,9 +139,9 @@ bool spin_until(Done done, MaySpin may_spin) {
 // could use. Two texr processes each drawing 2-thread terrain frames on 2 cores took 241-247
 // ms a frame, against 107-109 ms for their 1-thread frames. A worker that finds it has
 // waited for a core (the run-queue delay the kernel keeps for each thread, in
-// /proc/thread-self/schedstat) for more than contended_wait since its last look, at most
-// once per contended_check, stops every waiter of the process from spinning for the next
-// spin_pause. (Two other signals were measured and dropped: a spin that ran its whole time,
+// /proc/thread-self/schedstat) for more than contended_wait since its last look (looks are
+// 1 to 2 contended_check apart) stops every waiter of the process from spinning for the
+// next spin_pause. (Two other signals were measured and dropped: a spin that ran its whole time,
 // which a worker slow to wake from sleep also causes, so the pauses chained; and any rise in
 // the involuntary context switches, which a lone process also shows before 1-5% of its
 // waits. docs/benchmark-history.md has the numbers.)
@@ -185,15 +189,16 @@ private:
 void note_contention() {
     thread_local RunDelay delay;
     thread_local long long last = -1;
-    thread_local std::chrono::steady_clock::time_point next_look{};
+    thread_local std::chrono::steady_clock::time_point last_look{};
     const auto now = std::chrono::steady_clock::now();
-    if (now < next_look) return;
-    next_look = now + contended_check;
+    if (now - last_look < contended_check) return;
     const long long waited = delay.read();
     if (waited < 0) return;
-    if (last >= 0 && waited - last > contended_wait_ns)
+    // Only a recent look is compared with: over a longer gap (between frames, or while the
+    // caller did other work) a lone process's threads also wait now and then.
+    if (last >= 0 && now - last_look <= 2 * contended_check && waited - last > contended_wait_ns)
         spin_paused_until.store((now + spin_pause).time_since_epoch().count(), std::memory_order_relaxed);
-    last = waited;
+    last = waited, last_look = now;
 }
 
 // A worker of a running frame spins while the frames' workers fit on the cores and no pause

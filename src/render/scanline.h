@@ -61,7 +61,24 @@ struct DrawContext {
     int object, material_index;
     std::size_t triangle;
     bool clipped;
+    bool finite_shading;  // shading_stays_finite: an 8-bit texel cannot make a NaN
 };
+
+// Whether shading with material m can give no NaN for a texel in [0, 1]: every colour it
+// multiplies or adds (material, ambient, lights) is finite and at most 1e10 in magnitude,
+// every light's vector at most 2 long, and there are fewer than 1e6 lights, so that every
+// product and sum in shade() stays below about 1e27. A parsed scene always passes (colours
+// at most max_color, 3.5e9 linear; directions normalised); a scene built in code may not.
+inline bool shading_stays_finite(const Scene& scene, const Material& m) {
+    const auto small = [](const Color& c) {
+        return std::fabs(c.x) <= 1e10f && std::fabs(c.y) <= 1e10f && std::fabs(c.z) <= 1e10f;  // (false for NaN)
+    };
+    if (!small(m.color) || !small(scene.ambient) || scene.lights.size() >= 1000000) return false;
+    for (const Light& light : scene.lights)
+        if (!small(light.color) || (light.kind == Light::Kind::directional && !(glm::dot(light.vector, light.vector) <= 4.0)))
+            return false;
+    return true;
+}
 
 // Everything the span walk needs of one screen triangle.
 struct TriangleSetup {
@@ -98,10 +115,10 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     (void)texel, (void)normal, (void)color, (void)world;
     // An infinite texel (a float HDR texel times a bright material) times no light is NaN;
     // such a pixel is written as 0, the limit of its light, not as NaN. An 8-bit texel
-    // cannot make one: material and light colours are at most max_color (linear 3.5e9), so
-    // every product and sum here is finite, and the test is skipped (it was about a tenth
-    // of a nearest-filtered plane's frame).
-    if constexpr (ldr_texel) return c;
+    // cannot make one where shading_stays_finite, and the test is skipped there (it was
+    // about a third of a nearest-filtered plane's frame).
+    if constexpr (ldr_texel)
+        if (d.finite_shading) return c;
     return {c.x == c.x ? c.x : 0.0f, c.y == c.y ? c.y : 0.0f, c.z == c.z ? c.z : 0.0f};
 }
 

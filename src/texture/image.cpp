@@ -32,6 +32,7 @@ Image Image::ldr(int width, int height, ColorSpace space, LargeVector<std::uint8
     image.inv_width_ = 1.0 / width, image.inv_height_ = 1.0 / height;
     image.decode_ = space == ColorSpace::srgb ? srgb8_to_linear_table() : unorm8_to_float_table();
     image.ldr_pow2_ = width > 0 && height > 0 && (width & (width - 1)) == 0 && (height & (height - 1)) == 0;
+    while ((std::size_t(1) << (image.row_shift_ + 1)) <= std::size_t(width) * 4) ++image.row_shift_;
     return image;
 }
 

@@ -92,10 +92,8 @@ public:
 
     // The view of an 8-bit image (see LdrLevel).
     LdrLevel ldr_level() const {
-        int shift = 0;
-        while ((std::size_t(1) << (shift + 1)) <= std::size_t(width_) * 4) ++shift;
         return {texels_8_.data(), decode_, double(width_), double(height_), std::int64_t(width_) - 1,
-                std::int64_t(height_) - 1, std::size_t(width_) * 4, shift};
+                std::int64_t(height_) - 1, std::size_t(width_) * 4, row_shift_};
     }
 
 private:
@@ -104,6 +102,7 @@ private:
     ColorSpace space_ = ColorSpace::srgb;
     bool hdr_ = false;
     bool ldr_pow2_ = false;
+    int row_shift_ = 0;  // floor(log2(4 * width)): the row stride's shift when the width is a power of two
     LargeVector<std::uint8_t> texels_8_;  // (in 2 MiB pages: see large_buffer.h)
     LargeVector<float> texels_f_;
     const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255
