@@ -16,8 +16,8 @@
 #include <thread>
 #include <vector>
 
-#include <pthread.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <sched.h>
 #include <unistd.h>
 
@@ -136,8 +136,8 @@ bool spin_until(Done done, MaySpin may_spin) {
 
 // Another process running on the same cores makes spinning a loss even when this process's
 // workers fit on them: a spinner keeps a core that the late worker, or the other process,
-// could use. Two texr processes each drawing 2-thread terrain frames on 2 cores took 241-247
-// ms a frame, against 107-109 ms for their 1-thread frames. A worker that finds it has
+// could use. Two texr processes each drawing 2-thread terrain frames on 2 cores took 241-248
+// ms a frame (126-128 ms with this), against 107-109 ms for their 1-thread frames. A worker that finds it has
 // waited for a core (the run-queue delay the kernel keeps for each thread, in
 // /proc/thread-self/schedstat) for more than contended_wait since its last look (looks are
 // 1 to 2 contended_check apart) stops every waiter of the process from spinning for the
