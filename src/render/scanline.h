@@ -64,9 +64,10 @@ struct DrawContext {
     bool finite_shading;  // shading_stays_finite: an 8-bit texel cannot make a NaN
 };
 
-// Whether shading with material m can give no NaN for a texel in [0, 1]: every colour it
+// Whether shading with material m cannot give a NaN for a texel in [0, 1]: every colour it
 // multiplies or adds (material, ambient, lights) is finite and at most 1e10 in magnitude,
-// every light's vector at most 2 long, and there are fewer than 1e6 lights, so that every
+// every directional light's vector at most 2 long (a point light's direction is
+// normalised), and there are fewer than 1e6 lights, so that every
 // product and sum in shade() stays below about 1e27. A parsed scene always passes (colours
 // at most max_color, 3.5e9 linear; directions normalised); a scene built in code may not.
 inline bool shading_stays_finite(const Scene& scene, const Material& m) {
