@@ -120,6 +120,14 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
                    "scene.txt:2: 'background' is given a second time (first on line 1)");
     expect_failure("ambient-twice", "ambient 0.1 0.1 0.1\n" + good_scene + "ambient 0.2 0.2 0.2\n",
                    "scene.txt:6: 'ambient' is given a second time (first on line 1)");
+    // A name defined twice: the message names the first definition's line.
+    expect_failure("material-twice", good_scene + "material red color 0 1 0\n",
+                   "scene.txt:5: material 'red' is defined a second time (first on line 3)");
+    expect_failure("texture-twice",
+                   "texture t file " + source_path("models/textures/checker.png") + "\n\ntexture t file " +
+                       source_path("models/textures/checker.png") + "\n" + good_scene,
+                   "scene.txt:3: texture 't' is defined a second time (first on line 1)");
+    expect_failure("fov-180", "camera fov 180\n" + good_scene, "scene.txt:1: fov must be between 0 and 180 degrees (not inclusive), got 180");
     // An option once per command: of two values the last would silently win. (translate,
     // rotate and scale compose, and v, n, c give vertices: those repeat.)
     const std::string textured = "texture t file " + source_path("models/textures/checker.png");
@@ -527,9 +535,9 @@ TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by ha
 TEST_CASE("texr explain names the texels nearest and bilinear read, their fractions, and the bytes written") {
     // The square of the test above, textured by a 4 x 4 image whose top two rows are red and
     // bottom two blue (row 0 is the bottom, v = 0). At pixel (16, 32): u = 16.5/64 = 0.2578125,
-    // v = 1 - 32.5/64 = 0.4921875, so u w = 1.03125 and v h = 1.96875.
+    // v = 1 - 32.5/64 = 0.4921875, so u resU = 1.03125 and v resV = 1.96875.
     //  - nearest: column floor(1.03125) = 1, row floor(1.96875) = 1: blue;
-    //  - bilinear: x = u w - 1/2 = 0.53125, y = v h - 1/2 = 1.46875: columns 0 and 1
+    //  - bilinear: x = u resU - 1/2 = 0.53125, y = v resV - 1/2 = 1.46875: columns 0 and 1
     //    (f_u = 0.53125), rows 1 (blue) and 2 (red) (f_v = 0.46875), so the value is
     //    (0.46875, 0, 0.53125), written as sRGB 255 (1.055 x^(1/2.4) - 0.055): 182 and 193.
     const std::string dir = scratch_folder("explain-taps");
@@ -537,22 +545,30 @@ TEST_CASE("texr explain names the texels nearest and bilinear read, their fracti
     for (int row = 0; row < 4; ++row)  // from the top
         for (int column = 0; column < 4; ++column) ppm += row < 2 ? std::string("\xff\x00\x00", 3) : std::string("\x00\x00\xff", 3);
     std::ofstream(dir + "/t.ppm", std::ios::binary) << ppm;
-    const auto explain = [&](const std::string& filter) {
+    const auto explain = [&](const std::string& filter, const char* quad = "v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 1 v -2 2 -2 0 1") {
         write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm filter " + filter +
-                                           "\nmaterial m texture t\nquad material m v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 1 v -2 2 -2 0 1\n");
+                                           "\nmaterial m texture t\nquad material m " + quad + "\n");
         const RunResult r = run_texr("explain " + dir + "/scene.txt 16 32");
         CHECK(r.exit_code == 0);
         return r.output;
     };
     std::string out = explain("nearest");
     CAPTURE(out);
-    CHECK(out.find("the nearest texel: u w = 1.0312, v h = 1.9688;") != std::string::npos);
-    CHECK(out.find("wrapped: texel (1, 1) (row 0 is the image's bottom),\n    linear RGBA (0.00000, 0.00000, 1.00000, 1.00000)") !=
+    CHECK(out.find("the nearest texel (resU x resV = 4 x 4): u resU = 1.0312, v resV = 1.9688;") != std::string::npos);
+    CHECK(out.find("on the wrapped t_u): texel (1, 1) (row 0 is the image's bottom),\n    linear RGBA (0.00000, 0.00000, 1.00000, 1.00000)") !=
           std::string::npos);
     CHECK(out.find("sRGB bytes (0, 0, 255)") != std::string::npos);
+    // The UVs times 8 (repeat): u resU = 8.25 and v resV = 15.75, column 8 and row 15 before
+    // the wrap, column 0 and row 3 (red) after it: the slide's min(floor(t_u resU), resU - 1)
+    // on the wrapped t_u = 0.0625, t_v = 0.9375.
+    out = explain("nearest", "v -2 -2 -2 0 0 v 2 -2 -2 8 0 v 2 2 -2 8 8 v -2 2 -2 0 8");
+    CAPTURE(out);
+    CHECK(out.find("u resU = 8.2500, v resV = 15.7500;") != std::string::npos);
+    CHECK(out.find("on the wrapped t_u): texel (0, 3) (row 0 is the image's bottom),\n    linear RGBA (1.00000, 0.00000, 0.00000, 1.00000)") !=
+          std::string::npos);
     out = explain("bilinear");
     CAPTURE(out);
-    CHECK(out.find("x = u w - 1/2 = 0.5312,\n    y = v h - 1/2 = 1.4688") != std::string::npos);
+    CHECK(out.find("x = u resU - 1/2 = 0.5312,\n    y = v resV - 1/2 = 1.4688") != std::string::npos);
     CHECK(out.find("bilinear reads columns 0 and 1 (f_u = 0.53125), rows 1 and 2 (f_v = 0.46875)") != std::string::npos);
     CHECK(out.find("t00 (0, 1) (0.00000, 0.00000, 1.00000, 1.00000)   t10 (1, 1) (0.00000, 0.00000, 1.00000, 1.00000)") !=
           std::string::npos);
@@ -1093,13 +1109,13 @@ TEST_CASE("scene files with a byte order mark or a NUL byte, explain lines of an
     const RunResult r = run_texr("explain " + dir + "/huge.txt 32 30");
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
-    const std::size_t at = r.output.find("before wrapping): x = u w - 1/2 = ");
+    const std::size_t at = r.output.find("before wrapping): x = u resU - 1/2 = ");
     REQUIRE(at != std::string::npos);
     const std::size_t y_at = r.output.find('\n', at) + 1;
     const std::string line = r.output.substr(at, y_at - 1 - at), y_line = r.output.substr(y_at, r.output.find('\n', y_at) - y_at);
     CHECK(line.size() > 300);
     CHECK(line.back() == ',');
-    CHECK(y_line.rfind("    y = v h - 1/2 = ", 0) == 0);
+    CHECK(y_line.rfind("    y = v resV - 1/2 = ", 0) == 0);
     CHECK(y_line.size() > 300);
     CHECK(r.output.find("\n    bilinear reads columns", y_at) != std::string::npos);  // the next line starts a line
     // texr bench --size quotes the whole value and the real limit.

@@ -121,13 +121,14 @@ std::string base_taps(const Texture& t, double u, double v) {
         const int i = reconstruct_detail::nearest_tap(s.registration, s.wrap_u, u, w, image.inv_width());
         const int j = reconstruct_detail::nearest_tap(s.registration, s.wrap_v, v, h, image.inv_height());
         const std::string which = s.registration == Registration::cell
-                                      ? format("    the nearest texel: u w = %.4f, v h = %.4f; column min(floor(u w), w - 1),\n"
-                                               "    row min(floor(v h), h - 1)",
-                                               u * w, v * h)
-                                      : format("    the nearest node: u (w - 1) = %.4f, v (h - 1) = %.4f; column round(u (w - 1)),\n"
-                                               "    row round(v (h - 1))",
-                                               u * (w - 1), v * (h - 1));
-        return which + ", wrapped: texel " + at(i, j) + " (row 0 is the image's bottom),\n    linear RGBA " + value(i, j) + "\n";
+                                      ? format("    the nearest texel (resU x resV = %.0f x %.0f): u resU = %.4f, v resV = %.4f; column\n"
+                                               "    floor(u resU), row floor(v resV), then wrapped (the slide's lu = min(floor(t_u resU),\n"
+                                               "    resU - 1) on the wrapped t_u)",
+                                               double(w), double(h), u * w, v * h)
+                                      : format("    the nearest node (resU x resV = %.0f x %.0f): u (resU - 1) = %.4f, v (resV - 1) = %.4f;\n"
+                                               "    column round(u (resU - 1)), row round(v (resV - 1)), then wrapped",
+                                               double(w), double(h), u * (w - 1), v * (h - 1));
+        return which + ": texel " + at(i, j) + " (row 0 is the image's bottom),\n    linear RGBA " + value(i, j) + "\n";
     }
     if (s.filter != Filter::bilinear) return "";
     const auto a = reconstruct_detail::bilinear_taps(s.registration, s.wrap_u, u, w, image.inv_width());
@@ -303,10 +304,10 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         const bool cell = t.sampler.registration == Registration::cell;
         const double lx = cell ? u * w - 0.5 : u * (w - 1);
         const double ly = cell ? v * h - 0.5 : v * (h - 1);
-        out += format(cell ? "    lattice coordinates (texel centres at whole numbers, before wrapping): x = u w - 1/2 = %.4f,\n"
-                             "    y = v h - 1/2 = %.4f\n"
-                           : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (w - 1) = %.4f,\n"
-                             "    y = v (h - 1) = %.4f\n",
+        out += format(cell ? "    lattice coordinates (texel centres at whole numbers, before wrapping): x = u resU - 1/2 = %.4f,\n"
+                             "    y = v resV - 1/2 = %.4f\n"
+                           : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (resU - 1) = %.4f,\n"
+                             "    y = v (resV - 1) = %.4f\n",
                       lx, ly);
         out += base_taps(t, u, v);
         // The footprint in texels of the lattice: node registration counts node spacings.

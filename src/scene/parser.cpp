@@ -277,7 +277,11 @@ private:
             else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
             else c.fail("unknown camera option '" + key + "' (expected eye, target, up, fov, near or far)");
         }
-        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) c.fail_at(fov_at, "fov must be between 0 and 180 degrees");
+        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
+            std::ostringstream given;
+            given << cam.fov_y_degrees;
+            c.fail_at(fov_at, "fov must be between 0 and 180 degrees (not inclusive), got " + given.str());
+        }
         // (near <= 0 is near's fault alone; far <= near is the later of the two's)
         if (!(cam.near > 0.0)) c.fail_at(near_at, "camera needs 0 < near < far");
         if (!(cam.far > cam.near)) c.fail_at(std::max(near_at, far_at), "camera needs 0 < near < far");
@@ -294,7 +298,9 @@ private:
     void texture(Cursor& c) {
         Texture t;
         t.name = c.word("a texture name");
-        if (texture_index_.count(t.name)) c.fail("texture '" + t.name + "' is defined twice");
+        if (texture_index_.count(t.name))
+            c.fail("texture '" + t.name + "' is defined a second time (first on line " + std::to_string(defined_on_[t.name]) + ")");
+        defined_on_[t.name] = c.line_number();
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         std::size_t file_at = 0;
@@ -388,8 +394,10 @@ private:
             if (from_obj != material_from_obj_.end())
                 c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
                        "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
-            c.fail("material '" + m.name + "' is defined twice");
+            c.fail("material '" + m.name + "' is defined a second time (first on line " +
+                   std::to_string(material_defined_on_[m.name]) + ")");
         }
+        material_defined_on_[m.name] = c.line_number();
         while (!c.done()) {
             const std::string key = c.word("a material option");
             c.once(key);
@@ -644,6 +652,7 @@ private:
     const std::string& file_;
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
+    std::map<std::string, int> defined_on_, material_defined_on_;  // the line of each texture's and scene material's definition
     std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
     std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the line of the mesh's file name
     std::map<std::string, std::shared_ptr<const Image>> images_;
