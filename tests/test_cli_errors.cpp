@@ -509,6 +509,12 @@ TEST_CASE("--stats and --repeat report counters and a median frame time") {
     CHECK(r.output.find("triangles in       1") != std::string::npos);
     CHECK(r.output.find("pixels shaded") != std::string::npos);
     CHECK(r.output.find("material red") != std::string::npos);
+    // The worker threads the frame used: --threads, at most one per 8 rows (24 rows: 3).
+    for (const auto& [given, used] : {std::pair<int, int>{2, 2}, {5, 3}}) {
+        const RunResult t = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png --stats --threads " + std::to_string(given));
+        CAPTURE(t.output);
+        CHECK(t.output.find("threads            " + std::to_string(used) + "  (worker threads") != std::string::npos);
+    }
 }
 
 TEST_CASE("texr explain tells a pixel's u, v and derivatives as worked out by hand") {

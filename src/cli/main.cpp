@@ -81,9 +81,10 @@ const char* render_help =
     "                      perspective: wrong, for contrast) or adaptive\n"
     "  --span-tolerance T  with --span adaptive only: largest error in texels\n"
     "                      (default 0.015625 = 1/64)\n"
-    "  --stats             print counters (triangles in / clipped / culled, spans,\n"
-    "                      pixels shaded, texels fetched), what each material needs,\n"
-    "                      and the time of each stage\n"
+    "  --stats             print counters (triangles in / clipped / culled / dropped /\n"
+    "                      set up, spans, pixels shaded, texels fetched), what each\n"
+    "                      material needs, the worker threads used, and the time of\n"
+    "                      each stage\n"
     "  -h, --help          show this help\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
@@ -209,6 +210,7 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     std::printf("texels fetched     %llu\n", (unsigned long long)per_frame(s.texels_fetched));
     for (const texr::Material& m : scene.materials)
         std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
+    std::printf("threads            %d  (worker threads: --threads, or one per core; at most one per 8 rows)\n", s.workers);
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
     std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);
     std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);

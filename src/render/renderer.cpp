@@ -590,6 +590,7 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     for (const std::exception_ptr& e : failures)
         if (e) std::rethrow_exception(e);
     for (const WorkerSlot& slot : slots) stats.add_counters(slot.counts);
+    stats.workers = workers;
     stats.seconds_clear += clear_seconds;
     stats.seconds_vertex += vertex_seconds - clear_seconds;
     stats.seconds_raster += seconds_since(start) - vertex_seconds;

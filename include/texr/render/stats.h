@@ -17,6 +17,8 @@ struct RenderStats {
     double seconds_clear = 0.0;           // the frame's colour and depth set to "nothing here"
     double seconds_vertex = 0.0;          // object -> clip for every vertex
     double seconds_raster = 0.0;          // clipping, setup, span walk and shading
+    int workers = 0;                      // worker threads of the last frame: --threads (default: the
+                                          // cores), at most one per 8 rows
 
     void add_counters(const RenderStats& other);
 };
