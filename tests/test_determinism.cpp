@@ -202,15 +202,23 @@ TEST_CASE("the pooled worker threads give the bytes of a 1-thread frame: several
     }
 }
 
+namespace {
+
+// Gives this thread back its CPU set when a test ends, also when a REQUIRE fails (the other
+// tests run on this thread).
+struct RestoreAffinity {
+    const cpu_set_t& set;
+    ~RestoreAffinity() { sched_setaffinity(0, sizeof set, &set); }
+};
+
+}  // namespace
+
 TEST_CASE("the default thread count is the number of cores this process may run on: 1 when pinned to one core") {
     // sched_getaffinity(0) is the calling thread's set, so pinning this thread is what
     // taskset -c does to a process.
     cpu_set_t original;
     REQUIRE(sched_getaffinity(0, sizeof original, &original) == 0);
-    struct Restore {  // (also when a REQUIRE below fails: the other tests run on this thread)
-        const cpu_set_t& set;
-        ~Restore() { sched_setaffinity(0, sizeof set, &set); }
-    } restore{original};
+    const RestoreAffinity restore{original};
     const int allowed = CPU_COUNT(&original);
     CHECK(usable_cores() == allowed);
     CHECK(usable_cores() <= int(std::max(1u, std::thread::hardware_concurrency())));
@@ -233,10 +241,7 @@ TEST_CASE("the pool's threads follow the caller's cores: a pool grown while pinn
     // sanitizer's own, started with the first thread) are left out.
     cpu_set_t original;
     REQUIRE(sched_getaffinity(0, sizeof original, &original) == 0);
-    struct Restore {
-        const cpu_set_t& set;
-        ~Restore() { sched_setaffinity(0, sizeof set, &set); }
-    } restore{original};
+    const RestoreAffinity restore{original};
     if (CPU_COUNT(&original) < 2) {
         MESSAGE("skipped: this thread may run on one core only");
         return;

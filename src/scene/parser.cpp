@@ -295,12 +295,16 @@ private:
             c.fail_at(up_at != 0 ? up_at : view_at, "camera up must not be parallel to the view direction");
     }
 
+    // A texture or scene material is defined once: a second definition names the first's line.
+    void define_once(Cursor& c, const std::string& what) {
+        const auto [first, inserted] = defined_on_.emplace(what, c.line_number());
+        if (!inserted) c.fail(what + " is defined a second time (first on line " + std::to_string(first->second) + ")");
+    }
+
     void texture(Cursor& c) {
         Texture t;
         t.name = c.word("a texture name");
-        if (texture_index_.count(t.name))
-            c.fail("texture '" + t.name + "' is defined a second time (first on line " + std::to_string(defined_on_[t.name]) + ")");
-        defined_on_[t.name] = c.line_number();
+        define_once(c, "texture '" + t.name + "'");
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         std::size_t file_at = 0;
@@ -389,15 +393,11 @@ private:
     void material(Cursor& c) {
         Material m;
         m.name = c.word("a material name");
-        if (material_index_.count(m.name)) {
-            const auto from_obj = material_from_obj_.find(m.name);
-            if (from_obj != material_from_obj_.end())
-                c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
-                       "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
-            c.fail("material '" + m.name + "' is defined a second time (first on line " +
-                   std::to_string(material_defined_on_[m.name]) + ")");
-        }
-        material_defined_on_[m.name] = c.line_number();
+        const auto from_obj = material_from_obj_.find(m.name);
+        if (from_obj != material_from_obj_.end())
+            c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
+                   "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
+        define_once(c, "material '" + m.name + "'");
         while (!c.done()) {
             const std::string key = c.word("a material option");
             c.once(key);
@@ -652,7 +652,7 @@ private:
     const std::string& file_;
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
-    std::map<std::string, int> defined_on_, material_defined_on_;  // the line of each texture's and scene material's definition
+    std::map<std::string, int> defined_on_;  // "texture 't'" / "material 'm'": the line that defined it
     std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
     std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the line of the mesh's file name
     std::map<std::string, std::shared_ptr<const Image>> images_;
