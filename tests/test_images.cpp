@@ -5,7 +5,9 @@
 #include <stb_image_write.h>
 
 #include <cmath>
+#include <memory>
 #include <sstream>
+#include <vector>
 
 #include "helpers.h"
 #include "texr/core/color.h"
@@ -22,6 +24,17 @@ namespace {
 constexpr int w = 4, h = 2;
 const std::uint8_t pixels[w * h * 3] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255,
                                         0,   0, 0, 64, 64, 64, 128, 128, 128, 192, 192, 192};
+
+// The scene `text` (file paths relative to models/), parsed and rendered once with the
+// default options; `pixels`: the pixels the frame shaded.
+Scene render_scene_text(const std::string& text, std::uint64_t& pixels) {
+    std::istringstream in(text);
+    Scene scene = parse_scene(in, testing::source_path("models/textures.scene"));
+    RenderStats stats;
+    render(scene, {}, stats);
+    pixels = stats.pixels_shaded;
+    return scene;
+}
 
 }  // namespace
 
@@ -207,17 +220,125 @@ TEST_CASE("--spp: the ground truth is the mean of spp x spp bilinear lookups at 
 TEST_CASE("a scene whose textures are never minified builds no mip levels") {
     // Through the parser (the in-code test above builds its Scene by hand): a trilinear
     // texture on a square seen close up, magnified everywhere.
-    std::istringstream text(
+    std::uint64_t pixels = 0;
+    const Scene scene = render_scene_text(
         "size 64 64\n"
         "camera eye 0 0 1 target 0 0 0 up 0 1 0 fov 90\n"
         "texture t file textures/checker.png filter trilinear\n"
         "texture unused file textures/detail.png filter ewa\n"
         "material m texture t\n"
-        "quad material m v -1 -1 0 0 0 v 1 -1 0 0.01 0 v 1 1 0 0.01 0.01 v -1 1 0 0 0.01\n");
-    const Scene scene = parse_scene(text, testing::source_path("models/textures.scene"));
-    RenderStats stats;
-    render(scene, {}, stats);
-    CHECK(stats.pixels_shaded == 64u * 64u);
+        "quad material m v -1 -1 0 0 0 v 1 -1 0 0.01 0 v 1 1 0 0.01 0.01 v -1 1 0 0 0.01\n",
+        pixels);
+    CHECK(pixels == 64u * 64u);
     CHECK_FALSE(scene.textures[0].mipmap->built());
     CHECK_FALSE(scene.textures[1].mipmap->built());
+}
+
+TEST_CASE("an 8-bit image's decoded copy holds what texel() reads, and bilinear reads the same bits from it") {
+    // Random bytes on a 16x8 image, as colour (sRGB table) and as data (k / 255).
+    std::uint64_t state = 99;
+    const auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return state >> 11;
+    };
+    std::vector<std::uint8_t> rgba(16 * 8 * 4);
+    for (auto& b : rgba) b = std::uint8_t(next() % 256);
+    for (const ColorSpace space : {ColorSpace::srgb, ColorSpace::linear}) {
+        const Image image = Image::ldr(16, 8, space, rgba);
+        CHECK(image.decoded_bytes() == 0u);  // not made until asked for
+        const float* decoded = image.decoded_texels();
+        REQUIRE(decoded != nullptr);
+        CHECK(image.decoded_bytes() == 16u * 8u * 4u * sizeof(float));
+        CHECK(image.decoded_texels() == decoded);  // made once
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 16; ++i) {
+                const float* t = decoded + (std::size_t(j) * 16 + std::size_t(i)) * 4;
+                const Color4 want = image.texel(i, j);
+                CHECK((t[0] == want.x && t[1] == want.y && t[2] == want.z && t[3] == want.w));
+                CHECK(t[3] == doctest::Approx(rgba[(std::size_t(j) * 16 + std::size_t(i)) * 4 + 3] / 255.0).epsilon(1e-6));
+            }
+        // Bilinear from the copy and from the bytes: the same bits, also beyond one period
+        // and for negative coordinates.
+        const LdrLevel bytes = image.ldr_level(), copy = image.ldr_level(true);
+        REQUIRE(bytes.decoded == nullptr);
+        REQUIRE(copy.decoded == decoded);
+        for (int n = 0; n < 3000; ++n) {
+            const double scale = n < 1000 ? 1.0 : n < 2000 ? 100.0 : 1e7;
+            const double u = (double(next()) * 0x1p-53 * 2.0 - 1.0) * scale, v = (double(next()) * 0x1p-53 * 2.0 - 1.0) * scale;
+            const Color4 a = bilinear_in(bytes, u, v), b = bilinear_in(copy, u, v),
+                         c = bilinear_in<TexelSource::decoded>(copy, u, v), d = bilinear_in<TexelSource::bytes>(copy, u, v);
+            CAPTURE(u);
+            CAPTURE(v);
+            CHECK((a.x == b.x && a.y == b.y && a.z == b.z && a.w == b.w));
+            CHECK((a.x == c.x && a.y == c.y && a.z == c.z && a.w == c.w));
+            CHECK((a.x == d.x && a.y == d.y && a.z == d.z && a.w == d.w));
+        }
+    }
+    // HDR images have no copy (their texels are float already).
+    const Image hdr = Image::hdr(2, 2, std::vector<float>(16, 0.5f));
+    CHECK(hdr.decoded_texels() == nullptr);
+    CHECK(hdr.ldr_level(true).decoded == nullptr);
+}
+
+TEST_CASE("decoded copies stop at the size limit and at the process's budget, and give their bytes back") {
+    // Above max_decoded_texels (1024 x 1024) an image has no copy.
+    const Image big = Image::ldr(2048, 1024, ColorSpace::srgb, std::vector<std::uint8_t>(2048u * 1024u * 4u, 7));
+    CHECK(big.decoded_texels() == nullptr);
+    CHECK(big.decoded_bytes() == 0u);
+    // 1024 x 1024 images have 16 MiB copies: the 256 MiB budget holds 16 of them, and the
+    // 17th gets none (it still reads its bytes).
+    static_assert(Image::decoded_budget_bytes == 16 * (std::size_t(16) << 20));
+    const std::vector<std::uint8_t> rgba(1024u * 1024u * 4u, 200);
+    std::vector<std::unique_ptr<Image>> images;
+    for (int k = 0; k < 17; ++k) images.push_back(std::make_unique<Image>(Image::ldr(1024, 1024, ColorSpace::srgb, rgba)));
+    for (int k = 0; k < 16; ++k) REQUIRE(images[std::size_t(k)]->decoded_texels() != nullptr);
+    CHECK(images[16]->decoded_texels() == nullptr);
+    CHECK(images[16]->decoded_bytes() == 0u);
+    // An image freed gives its copy's bytes back: a new image gets a copy again.
+    images[0].reset();
+    const Image again = Image::ldr(1024, 1024, ColorSpace::srgb, rgba);
+    CHECK(again.decoded_texels() != nullptr);
+    CHECK(again.decoded_texels()[0] == srgb8_to_linear_table()[200]);
+}
+
+TEST_CASE("decoded copies are made only for the textures that a blending filter reads") {
+    // Three textures of one 8-bit image each on a magnified square: nearest reads bytes, so
+    // its image gets no copy; bilinear and trilinear (whose levels are never built here)
+    // get one of the base; a texture no object uses gets none.
+    std::uint64_t pixels = 0;
+    const Scene scene = render_scene_text(
+        "size 32 32\n"
+        "camera eye 0 0 1 target 0 0 0 up 0 1 0 fov 90\n"
+        "texture n file textures/checker.png filter nearest\n"
+        "texture b file textures/uvgrid.png filter bilinear\n"
+        "texture t file textures/detail.png filter trilinear\n"
+        "texture unused file textures/detail.png filter bilinear colorspace linear\n"
+        "material mn texture n\n"
+        "material mb texture b\n"
+        "material mt texture t\n"
+        "quad material mn v -1 -1 0 0 0 v 0 -1 0 0.01 0 v 0 0 0 0.01 0.01 v -1 0 0 0 0.01\n"
+        "quad material mb v 0 -1 0 0 0 v 1 -1 0 0.01 0 v 1 0 0 0.01 0.01 v 0 0 0 0 0.01\n"
+        "quad material mt v -1 0 0 0 0 v 1 0 0 0.01 0 v 1 1 0 0.01 0.01 v -1 1 0 0 0.01\n",
+        pixels);
+    REQUIRE(scene.textures.size() == 4u);
+    for (const Texture& t : scene.textures) REQUIRE(t.image->is_ldr_pow2());
+    CHECK(pixels == 32u * 32u);
+    CHECK(scene.textures[0].image->decoded_bytes() == 0u);
+    CHECK(scene.textures[1].image->decoded_bytes() == std::size_t(scene.textures[1].image->bytes()) * sizeof(float));
+    CHECK(scene.textures[2].image->decoded_bytes() == std::size_t(scene.textures[2].image->bytes()) * sizeof(float));
+    CHECK_FALSE(scene.textures[2].mipmap->built());
+    CHECK(scene.textures[3].image->decoded_bytes() == 0u);
+
+    // Bilinear spans that cross texture rows quickly read the bytes (the copy would miss the
+    // cache more often), and make no copy: here v runs over 10 periods of 256 rows across 32
+    // pixels, 80 rows a pixel, while u stays put.
+    const Scene rows = render_scene_text(
+        "size 32 32\n"
+        "camera eye 0 0 1 target 0 0 0 up 0 1 0 fov 90\n"
+        "texture b file textures/uvgrid.png filter bilinear\n"
+        "material mb texture b\n"
+        "quad material mb v -1 -1 0 0 0 v 1 -1 0 0 10 v 1 1 0 0.01 10 v -1 1 0 0.01 0\n",
+        pixels);
+    CHECK(pixels == 32u * 32u);
+    CHECK(rows.textures[0].image->decoded_bytes() == 0u);
 }

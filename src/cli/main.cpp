@@ -83,8 +83,9 @@ const char* render_help =
     "                      (default 0.015625 = 1/64)\n"
     "  --stats             print counters (triangles in / clipped / culled / dropped /\n"
     "                      set up, spans, pixels shaded, texels fetched), what each\n"
-    "                      material needs, the worker threads used, and the time of\n"
-    "                      each stage\n"
+    "                      material needs, each texture's memory (texels, mip levels\n"
+    "                      if built, decoded copies if made), the worker threads used,\n"
+    "                      and the time of each stage\n"
     "  -h, --help          show this help\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
@@ -210,6 +211,17 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     std::printf("texels fetched     %llu\n", (unsigned long long)per_frame(s.texels_fetched));
     for (const texr::Material& m : scene.materials)
         std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
+    // What each texture holds after the frames: what was built or decoded shows what was read.
+    const auto mib = [](std::size_t bytes) { return double(bytes) / 1048576.0; };
+    for (const texr::Texture& t : scene.textures) {
+        const texr::Image& image = *t.image;
+        const bool levels = t.mipmap && t.mipmap->built();
+        const std::size_t decoded = image.decoded_bytes() + (t.mipmap ? t.mipmap->decoded_bytes() : 0);
+        char built[48] = "not built";
+        if (levels) std::snprintf(built, sizeof built, "%.2f MiB", mib(t.mipmap->bytes()));
+        std::printf("texture %-12s %dx%d %s %.2f MiB; mip levels %s; decoded copies %.2f MiB\n", t.name.c_str(),
+                    image.width(), image.height(), image.is_hdr() ? "float" : "8-bit", mib(image.bytes()), built, mib(decoded));
+    }
     std::printf("threads            %d  (worker threads: --threads, or one per core; at most one per 8 rows)\n", s.workers);
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
     std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);

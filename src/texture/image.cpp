@@ -47,6 +47,41 @@ Image Image::hdr(int width, int height, LargeVector<float> rgba) {
     return image;
 }
 
+namespace {
+std::atomic<std::size_t> decoded_bytes_in_use{0};  // the budget's use, by every image's copy
+}
+
+Image::Decoded::~Decoded() { decoded_bytes_in_use.fetch_sub(texels.size() * sizeof(float)); }
+
+const float* Image::decoded_texels() const {
+    if (!may_be_decoded() || !decoded_) return nullptr;
+    std::call_once(decoded_->once, [this] {
+        const std::size_t bytes = texels_8_.size() * sizeof(float);
+        if (decoded_bytes_in_use.fetch_add(bytes) + bytes > decoded_budget_bytes) {  // over budget: no copy
+            decoded_bytes_in_use.fetch_sub(bytes);
+            return;
+        }
+        LargeVector<float> out;
+        try {
+            out.resize(texels_8_.size());
+        } catch (...) {
+            decoded_bytes_in_use.fetch_sub(bytes);
+            throw;
+        }
+        for (std::size_t k = 0; k < texels_8_.size(); k += 4) {  // as decode_ldr_texel
+            out[k] = decode_[texels_8_[k]], out[k + 1] = decode_[texels_8_[k + 1]], out[k + 2] = decode_[texels_8_[k + 2]];
+            out[k + 3] = texels_8_[k + 3] * (1.0f / 255.0f);
+        }
+        decoded_->texels = std::move(out);
+        decoded_->made.store(true, std::memory_order_release);
+    });
+    return decoded_->texels.data();
+}
+
+std::size_t Image::decoded_bytes() const {
+    return decoded_ && decoded_->made.load(std::memory_order_acquire) ? decoded_->texels.size() * sizeof(float) : 0;
+}
+
 const float* unorm8_to_float_table() {
     static const std::array<float, 256> table = [] {
         std::array<float, 256> t{};

@@ -81,8 +81,8 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     const bool short_path = takes_short_path(mip.base(), s) &&
                             minify_detail::within_short_path_limit(std::fabs(u) + 0.5 * std::fabs(axis_u),
                                                                    std::fabs(v) + 0.5 * std::fabs(axis_v), w, h);
-    const LdrLevel base = short_path ? mip.base().ldr_level() : LdrLevel{};
-    const LdrLevel* levels = short_path ? (lambda > 0.0 ? mip.ldr_levels() : &base) : nullptr;
+    const LdrLevel base = short_path ? mip.base().ldr_level(true) : LdrLevel{};
+    const LdrLevel* levels = short_path ? (lambda > 0.0 ? mip.ldr_levels(true) : &base) : nullptr;
     for (int k = 0; k < n; ++k) {
         const double offset = (k + 0.5) / n - 0.5;  // evenly spaced across the footprint
         const double pu = u + offset * axis_u, pv = v + offset * axis_v;

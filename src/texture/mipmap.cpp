@@ -267,4 +267,10 @@ std::size_t MipMap::bytes() const {
     return total;
 }
 
+std::size_t MipMap::decoded_bytes() const {
+    std::size_t total = 0;
+    if (built()) for (const Image& l : levels_) total += l.decoded_bytes();
+    return total;
+}
+
 }  // namespace texr

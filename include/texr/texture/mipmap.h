@@ -67,9 +67,17 @@ public:
     }
     // Every level, base first, as the short texture paths read them (image.h); builds the
     // pyramid on first call. Only for a base that is_ldr_pow2() (then so is every level).
-    const LdrLevel* ldr_levels() const {
+    // with_decoded: with the decoded copies of the levels that may have one (Image::
+    // decoded_texels), made on the first such call.
+    const LdrLevel* ldr_levels(bool with_decoded = false) const {
         if (!built_flag_.load(std::memory_order_acquire)) build();
-        return ldr_levels_.data();
+        if (!with_decoded) return ldr_levels_.data();
+        std::call_once(decoded_once_, [this] {
+            std::vector<LdrLevel> views;
+            for (int l = 0; l < level_count_; ++l) views.push_back(level(l).ldr_level(true));
+            decoded_levels_ = std::move(views);
+        });
+        return decoded_levels_.data();
     }
     // Number of levels including the base (down to 1x1). Does not build them.
     int level_count() const { return level_count_; }
@@ -77,6 +85,7 @@ public:
     bool built() const { return built_flag_.load(); }
     double build_seconds() const { return build_seconds_; }
     std::size_t bytes() const;  // all levels above the base
+    std::size_t decoded_bytes() const;  // their decoded copies (Image::decoded_texels), if made
     void build() const;
 
 private:
@@ -88,6 +97,8 @@ private:
     mutable std::once_flag once_;
     mutable std::vector<Image> levels_;
     mutable std::vector<LdrLevel> ldr_levels_;
+    mutable std::once_flag decoded_once_;
+    mutable std::vector<LdrLevel> decoded_levels_;
     mutable std::atomic<bool> built_flag_{false};
     mutable double build_seconds_ = 0.0;
 };

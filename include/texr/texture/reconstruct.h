@@ -152,7 +152,13 @@ namespace reconstruct_detail {
 
 }  // namespace reconstruct_detail
 
-// The short path's bilinear lookup on level l, under the same condition as nearest_in.
+// Where a short-path lookup reads its texels: the bytes, the decoded copy (the level has
+// one), or the decoded copy if the level has one.
+enum class TexelSource { bytes, decoded, either };
+
+// The short path's bilinear lookup on level l, under the same condition as nearest_in, from
+// the texels `source` says (the same values from either).
+template <TexelSource source = TexelSource::either>
 [[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
     const double x = u * l.width - 0.5, y = v * l.height - 0.5;
     // floor and fraction from one truncation: x - trunc(x) is exact, and adding 1 when x is
@@ -162,7 +168,12 @@ namespace reconstruct_detail {
     const bool below_x = di > x, below_y = dj > y;
     const std::int64_t i = ti - below_x, j = tj - below_y;
     const double fx = (x - di) + (below_x ? 1.0 : 0.0), fy = (y - dj) + (below_y ? 1.0 : 0.0);
-    // (the short paths' levels are powers of two: a row is 2^row_shift bytes)
+    // (the short paths' levels are powers of two: a row is 2^row_shift bytes, or floats in
+    // the decoded copy)
+    if (source == TexelSource::decoded || (source == TexelSource::either && l.decoded))
+        return blend_decoded_texels(l.decoded + (std::size_t(j & l.mask_v) << l.row_shift),
+                                    l.decoded + (std::size_t((j + 1) & l.mask_v) << l.row_shift),
+                                    std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, float(fx), float(fy));
     return blend_ldr_texels(l.texels + (std::size_t(j & l.mask_v) << l.row_shift),
                             l.texels + (std::size_t((j + 1) & l.mask_v) << l.row_shift), std::size_t(i & l.mask_u) * 4,
                             std::size_t((i + 1) & l.mask_u) * 4, l.decode, float(fx), float(fy));
