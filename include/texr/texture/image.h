@@ -133,8 +133,9 @@ public:
     }
 
     // An 8-bit image's texels decoded to linear float RGBA, as texel() reads them, for the
-    // filters that blend texels; made on the first call (thread-safe), so an image no such
-    // filter reads has none. Null for HDR images, for images of more than max_decoded_texels
+    // short paths that blend texels (src/render/scanline.h: bilinear on the spans where it
+    // pays, the mip filters) and anisotropic filtering; made on the first call
+    // (thread-safe), so an image no such lookup reads has none. Null for HDR images, for images of more than max_decoded_texels
     // texels, and once the process's copies would pass decoded_budget_bytes: a copy is 4
     // times the image's 8-bit texels, and it pays only while it stays in cache. (Measured
     // on the receding plane, 1 thread, random-noise textures, bilinear: 3.85 -> 2.55 ms at
