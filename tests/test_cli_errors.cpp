@@ -510,8 +510,9 @@ TEST_CASE("--stats and --repeat report counters and a median frame time") {
     CHECK(r.output.find("pixels shaded") != std::string::npos);
     CHECK(r.output.find("material red") != std::string::npos);
     // A texture's memory: a 256x256 8-bit image is 0.25 MiB; the triangle is
-    // magnified (no mip levels) and filtered bilinearly (a decoded copy, 4 floats a texel).
-    write_text(dir + "/textured.txt", "size 32 24\ncamera eye 0 0 3\ntexture grid file " + source_path("models/textures/uvgrid.png") +
+    // magnified (no mip levels) and filtered bilinearly (a decoded copy, 4 floats a texel,
+    // which spans of 16 pixels or more read).
+    write_text(dir + "/textured.txt", "size 128 96\ncamera eye 0 0 3\ntexture grid file " + source_path("models/textures/uvgrid.png") +
                                            " filter bilinear\nmaterial m texture grid\n"
                                            "triangle material m v -1 -1 0 0 0 v 1 -1 0 0.01 0 v 0 1 0 0.005 0.01\n");
     const RunResult textured = run_texr("render " + dir + "/textured.txt -o " + dir + "/out.png --stats");

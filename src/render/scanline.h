@@ -372,14 +372,6 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     if constexpr (!general) {
         if (!span_within_short_path_limit(short_path, stepped_uv, u_prime, v_prime, q, span.x1 - x0, bound))
             return shade_span_on<N, TexturePath::general>(d, s, y, span, fb, stats, short_path);
-        if constexpr (P == TexturePath::bilinear_decoded) {
-            if (!span_reads_closely(s.h, short_path.base.height, y, x0, span.x1))
-                return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats, short_path);
-            if (!short_path.base.decoded) {  // made for the first span that reads it (null over budget)
-                short_path.base.decoded = d.texture->image->decoded_texels();
-                if (!short_path.base.decoded) return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats, short_path);
-            }
-        }
         if (P != TexturePath::nearest && span.x1 - x0 >= batched_from)
             return shade_span_batched<N, P>(d, s, y, span, fb, stats, short_path, stepped_uv, depth, q, u_prime, v_prime, normal);
     }
@@ -429,6 +421,16 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
     }
 }
 
+// Whether a span of TexturePath::bilinear_decoded reads the base level's decoded copy: a
+// span walked in batches (shorter ones, a fine mesh's, would pay more for the choice than
+// they gain) that reads closely, once the copy is made (for the first such span; null over
+// budget).
+inline bool reads_decoded_copy(const DrawContext& d, const TriangleSetup& s, int y, Span span, ShortPathTexture& t) {
+    if (span.x1 - span.x0 < batched_from || !span_reads_closely(s.h, t.base.height, y, span.x0, span.x1)) return false;
+    if (!t.base.decoded) t.base.decoded = d.texture->image->decoded_texels();
+    return t.base.decoded != nullptr;
+}
+
 template <Needs N>
 void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, Framebuffer& fb, RenderStats& stats,
                 TexturePath path, ShortPathTexture& t) {
@@ -437,7 +439,9 @@ void shade_span(const DrawContext& d, const TriangleSetup& s, int y, Span span, 
             case TexturePath::nearest: return shade_span_on<N, TexturePath::nearest>(d, s, y, span, fb, stats, t);
             case TexturePath::bilinear: return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats, t);
             case TexturePath::bilinear_decoded:
-                return shade_span_on<N, TexturePath::bilinear_decoded>(d, s, y, span, fb, stats, t);
+                if (reads_decoded_copy(d, s, y, span, t))
+                    return shade_span_on<N, TexturePath::bilinear_decoded>(d, s, y, span, fb, stats, t);
+                return shade_span_on<N, TexturePath::bilinear>(d, s, y, span, fb, stats, t);
             case TexturePath::nearest_mip_nearest:
             case TexturePath::bilinear_mip_nearest:
             case TexturePath::trilinear:
@@ -479,7 +483,11 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         short_path.base = d.texture->image->ldr_level(short_path.decoded);
         short_path.mip = d.texture->mipmap.get();
         short_path.last = short_path.mip ? short_path.mip->level_count() - 1 : 0;
-        if (path == TexturePath::bilinear && d.texture->image->may_be_decoded()) path = TexturePath::bilinear_decoded;
+        // (A triangle narrower than a batched span has no span that could read the copy.)
+        const double width = std::max({s.screen[0].x, s.screen[1].x, s.screen[2].x}) -
+                             std::min({s.screen[0].x, s.screen[1].x, s.screen[2].x});
+        if (path == TexturePath::bilinear && width >= batched_from - 1 && d.texture->image->may_be_decoded())
+            path = TexturePath::bilinear_decoded;
     }
     for (int y = rows.first_owned(s.first_row); y <= s.last_row; y = rows.next_owned(y)) {
         const Span span = span_for_row(s.edges, y, fb.width);
