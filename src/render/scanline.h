@@ -250,25 +250,37 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
     return given.u < u_limit && given.v < v_limit;
 }
 
-// Whether bilinear lookups along a span read texels close enough together for the decoded
-// copy to pay (TexturePath::bilinear_decoded): at most max_rows_per_pixel texture rows
-// crossed per pixel, |dv/dx| H, at both ends of the span. (Along a row dv/dx = c / q^2 for
-// a constant c, so its largest value is at an end.) Texels are stored in rows: a span along
-// u stays in its two texture rows however minified (the receding plane's far rows), but a
-// span that crosses rows quickly (a square at a grazing angle, turned) reads new cache lines
-// at every pixel, and a line of the copy holds 4 texels where a line of bytes holds 16.
-// Measured, 1 thread, plane / grazing square bilinear frames: bytes 3.71-3.79 / 4.51-4.60 ms;
-// the copy everywhere 2.53-2.59 / 4.78-5.15 ms; this choice with 4 rows 2.52-2.56 /
-// 4.49-4.58 ms (with 16 rows the grazing square took 6.46 ms: both copies in the cache).
+// Whether bilinear lookups along a span read the decoded copy (TexturePath::
+// bilinear_decoded) rather than the bytes: the copy saves work on every lookup, but it is 4
+// times the bytes, and a cache line of it holds 4 texels of a row where a line of bytes
+// holds 16. It pays where the span's texels are read again soon after:
+//   - where neighbours share texels: at most one texel a pixel along the span (|du/dx| W)
+//     and two from row to row (|dv/dy| H), so the next row finds them too;
+//   - or where the span runs over its texture rows at least once end to end (its length
+//     times its smallest |du/dx| W at least the texture's width W): the far rows of a plane
+//     receding to the horizon, each of which reads one pair of texture rows over and over.
+// Either way the span must cross at most max_rows_per_pixel texture rows a pixel (|dv/dx|
+// H): a span that crosses rows (a square at a grazing angle, turned) reads new lines at
+// every pixel. The derivatives are taken at the span's two ends (along a row du/dx is
+// c / q^2 for a constant c, so its extremes are there). Measured, 1 thread, alternated runs,
+// bytes against this choice: the receding plane 3.67-3.89 / 2.74-2.90 ms, at 1920x1080
+// 10.06-10.43 / 7.06-7.19 ms; a minified 10k-triangle terrain 15.89-16.17 / 16.54-16.81 ms;
+// the grazing square 4.63-4.70 / 4.50-4.68 ms. Reading the copy on every span took the terrain to 19-23 ms
+// and the grazing square to 4.8-5.2 ms (from 4.5).
 constexpr double max_rows_per_pixel = 4.0;
-inline bool span_reads_closely(const TextureHomography& h, double height, int y, int x0, int x1) {
+inline bool span_reads_closely(const TextureHomography& h, double width, double height, int y, int x0, int x1) {
+    double su_min = 1e300, su_max = 0.0, sv_max = 0.0;
     for (const int x : {x0, x1 - 1}) {
         const double px = x + 0.5, py = y + 0.5;
-        const double q = h.q.at(px, py);
-        const double dvdx = (h.v_prime.dx * q - h.v_prime.at(px, py) * h.q.dx) / (q * q);  // the quotient rule
-        if (!(std::fabs(dvdx) * height <= max_rows_per_pixel)) return false;  // (also false for NaN)
+        const double inv_q = 1.0 / h.q.at(px, py);
+        const UVDerivatives d = uv_derivatives_from_inverse_q(h, h.u_prime.at(px, py) * inv_q, h.v_prime.at(px, py) * inv_q, inv_q);
+        if (!(std::fabs(d.dvdx) * height <= max_rows_per_pixel)) return false;  // (also false for NaN)
+        const double su = std::fabs(d.dudx) * width;
+        su_min = std::min(su_min, su), su_max = std::max(su_max, su);
+        sv_max = std::max(sv_max, std::fabs(d.dvdy) * height);
     }
-    return true;
+    if (su_max <= 1.0 && sv_max <= 2.0) return true;  // neighbours share texels
+    return double(x1 - x0) * su_min >= width;         // the span runs over its rows
 }
 
 // Spans shorter than this are walked pixel by pixel. (The 1M-triangle terrain, whose spans
@@ -426,7 +438,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
 // they gain) that reads closely, once the copy is made (for the first such span; null over
 // budget).
 inline bool reads_decoded_copy(const DrawContext& d, const TriangleSetup& s, int y, Span span, ShortPathTexture& t) {
-    if (span.x1 - span.x0 < batched_from || !span_reads_closely(s.h, t.base.height, y, span.x0, span.x1)) return false;
+    if (span.x1 - span.x0 < batched_from || !span_reads_closely(s.h, t.base.width, t.base.height, y, span.x0, span.x1)) return false;
     if (!t.base.decoded) t.base.decoded = d.texture->image->decoded_texels();
     return t.base.decoded != nullptr;
 }
