@@ -21,6 +21,8 @@ bool maps_large(std::size_t bytes) {
 #endif
 }
 
+std::size_t large_buffer_footprint(std::size_t bytes) { return maps_large(bytes) ? whole_huge_pages(bytes) : bytes; }
+
 void* allocate_large(std::size_t bytes) {
     if (!maps_large(bytes)) return ::operator new(bytes);
     if (bytes > std::size_t(-1) - 2 * huge_page_bytes) throw std::bad_alloc();

@@ -33,6 +33,7 @@ Image Image::ldr(int width, int height, ColorSpace space, LargeVector<std::uint8
     image.decode_ = space == ColorSpace::srgb ? srgb8_to_linear_table() : unorm8_to_float_table();
     image.ldr_pow2_ = width > 0 && height > 0 && (width & (width - 1)) == 0 && (height & (height - 1)) == 0;
     while ((std::size_t(1) << (image.row_shift_ + 1)) <= std::size_t(width) * 4) ++image.row_shift_;
+    if (image.may_be_decoded()) image.decoded_ = std::make_shared<Decoded>();
     return image;
 }
 
@@ -48,38 +49,54 @@ Image Image::hdr(int width, int height, LargeVector<float> rgba) {
 }
 
 namespace {
+
 std::atomic<std::size_t> decoded_bytes_in_use{0};  // the budget's use, by every image's copy
+
+// Takes `bytes` from the budget if they fit (never more than it holds, even when images
+// ask at the same time).
+bool reserve_decoded_bytes(std::size_t bytes) {
+    std::size_t in_use = decoded_bytes_in_use.load();
+    do {
+        if (bytes > Image::decoded_budget_bytes || in_use > Image::decoded_budget_bytes - bytes) return false;
+    } while (!decoded_bytes_in_use.compare_exchange_weak(in_use, in_use + bytes));
+    return true;
 }
 
-Image::Decoded::~Decoded() { decoded_bytes_in_use.fetch_sub(texels.size() * sizeof(float)); }
+}  // namespace
+
+Image::Decoded::~Decoded() { decoded_bytes_in_use.fetch_sub(reserved); }
 
 const float* Image::decoded_texels() const {
-    if (!may_be_decoded() || !decoded_) return nullptr;
-    std::call_once(decoded_->once, [this] {
-        const std::size_t bytes = texels_8_.size() * sizeof(float);
-        if (decoded_bytes_in_use.fetch_add(bytes) + bytes > decoded_budget_bytes) {  // over budget: no copy
-            decoded_bytes_in_use.fetch_sub(bytes);
-            return;
+    if (!decoded_) return nullptr;  // (made by Image::ldr for the images that may_be_decoded)
+    Decoded& d = *decoded_;
+    if (d.decided.load(std::memory_order_acquire)) return d.texels;
+    std::call_once(d.once, [&] {
+        // The budget counts what the buffer takes: mapped buffers are whole 2 MiB pages.
+        const std::size_t bytes = large_buffer_footprint(texels_8_.size() * sizeof(float));
+        if (reserve_decoded_bytes(bytes)) {
+            d.reserved = bytes;
+            try {
+                LargeVector<float> out(texels_8_.size());
+                for (std::size_t k = 0; k < texels_8_.size(); k += 4) {  // as decode_ldr_texel
+                    out[k] = decode_[texels_8_[k]], out[k + 1] = decode_[texels_8_[k + 1]];
+                    out[k + 2] = decode_[texels_8_[k + 2]], out[k + 3] = texels_8_[k + 3] * (1.0f / 255.0f);
+                }
+                d.storage = std::move(out);
+                d.texels = d.storage.data();
+            } catch (const std::bad_alloc&) {  // the copy is only for speed: read the bytes
+                decoded_bytes_in_use.fetch_sub(bytes);
+                d.reserved = 0;
+            }
         }
-        LargeVector<float> out;
-        try {
-            out.resize(texels_8_.size());
-        } catch (...) {
-            decoded_bytes_in_use.fetch_sub(bytes);
-            throw;
-        }
-        for (std::size_t k = 0; k < texels_8_.size(); k += 4) {  // as decode_ldr_texel
-            out[k] = decode_[texels_8_[k]], out[k + 1] = decode_[texels_8_[k + 1]], out[k + 2] = decode_[texels_8_[k + 2]];
-            out[k + 3] = texels_8_[k + 3] * (1.0f / 255.0f);
-        }
-        decoded_->texels = std::move(out);
-        decoded_->made.store(true, std::memory_order_release);
+        d.decided.store(true, std::memory_order_release);
     });
-    return decoded_->texels.data();
+    return d.texels;
 }
 
 std::size_t Image::decoded_bytes() const {
-    return decoded_ && decoded_->made.load(std::memory_order_acquire) ? decoded_->texels.size() * sizeof(float) : 0;
+    return decoded_ && decoded_->decided.load(std::memory_order_acquire) && decoded_->texels
+               ? decoded_->storage.size() * sizeof(float)
+               : 0;
 }
 
 const float* unorm8_to_float_table() {

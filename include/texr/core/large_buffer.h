@@ -32,6 +32,8 @@ void free_large(void* p, std::size_t bytes) noexcept;
 
 // Whether allocate_large maps buffers of this size itself (false under AddressSanitizer).
 bool maps_large(std::size_t bytes);
+// The memory a buffer of `bytes` takes: mapped buffers are whole 2 MiB pages.
+std::size_t large_buffer_footprint(std::size_t bytes);
 
 // An allocator whose large allocations come from allocate_large (a minimal one, written
 // out rather than derived from std::allocator, so that no inherited member can allocate

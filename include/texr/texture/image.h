@@ -135,10 +135,12 @@ public:
     // An 8-bit image's texels decoded to linear float RGBA, as texel() reads them, for the
     // short paths that blend texels (src/render/scanline.h: bilinear on the spans where it
     // pays, the mip filters) and anisotropic filtering; made on the first call
-    // (thread-safe), so an image no such lookup reads has none. Null for HDR images, for images of more than max_decoded_texels
-    // texels, and once the process's copies would pass decoded_budget_bytes: a copy is 4
-    // times the image's 8-bit texels, and it pays only while it stays in cache. (Measured
-    // on the receding plane, 1 thread, random-noise textures, bilinear: 3.85 -> 2.55 ms at
+    // (thread-safe), so an image no such lookup reads has none. Null for HDR images, for
+    // images of more than max_decoded_texels texels, once the process's copies would pass
+    // decoded_budget_bytes (counted as the memory they take: whole 2 MiB pages from 1 MiB
+    // up), and if the memory cannot be had. A copy is 4 times the image's 8-bit texels, and
+    // it pays only while it stays in cache. (Measured on the receding plane, 1 thread,
+    // random-noise textures, bilinear read from the copy everywhere: 3.85 -> 2.55 ms at
     // 512^2, 3.85 -> 2.68 ms at 1024^2, 3.99 -> 3.61 ms at 2048^2, 4.37 -> 5.09 ms at 4096^2.)
     static constexpr std::size_t max_decoded_texels = std::size_t(1) << 20;      // 1024 x 1024: a 16 MiB copy
     static constexpr std::size_t decoded_budget_bytes = std::size_t(256) << 20;  // all images' copies
@@ -160,14 +162,18 @@ private:
     LargeVector<std::uint8_t> texels_8_;  // (in 2 MiB pages: see large_buffer.h)
     LargeVector<float> texels_f_;
     const float* decode_ = nullptr;  // byte -> linear value: the sRGB table, or k / 255
-    // The decoded copy, made once; shared by copies of the image, whose texels are the same.
+    // The decoded copy, decided once (made, or refused by the budget or by a failed
+    // allocation); shared by copies of the image, whose texels are the same. Only images
+    // that may_be_decoded have one.
     struct Decoded {
         std::once_flag once;
-        std::atomic<bool> made{false};
-        LargeVector<float> texels;
-        ~Decoded();  // returns its bytes to the budget
+        std::atomic<bool> decided{false};  // (read first: no call_once once decided)
+        const float* texels = nullptr;     // the copy's texels, or null; set before `decided`
+        LargeVector<float> storage;
+        std::size_t reserved = 0;  // budget bytes held
+        ~Decoded();                // returns them
     };
-    std::shared_ptr<Decoded> decoded_ = std::make_shared<Decoded>();
+    std::shared_ptr<Decoded> decoded_;
 };
 
 // The table that reads 8-bit data texels as k / 255.

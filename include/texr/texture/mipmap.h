@@ -72,11 +72,13 @@ public:
     const LdrLevel* ldr_levels(bool with_decoded = false) const {
         if (!built_flag_.load(std::memory_order_acquire)) build();
         if (!with_decoded) return ldr_levels_.data();
-        std::call_once(decoded_once_, [this] {
-            std::vector<LdrLevel> views;
-            for (int l = 0; l < level_count_; ++l) views.push_back(level(l).ldr_level(true));
-            decoded_levels_ = std::move(views);
-        });
+        if (!decoded_flag_.load(std::memory_order_acquire))  // once; then only this load
+            std::call_once(decoded_once_, [this] {
+                std::vector<LdrLevel> views;
+                for (int l = 0; l < level_count_; ++l) views.push_back(level(l).ldr_level(true));
+                decoded_levels_ = std::move(views);
+                decoded_flag_.store(true, std::memory_order_release);
+            });
         return decoded_levels_.data();
     }
     // Number of levels including the base (down to 1x1). Does not build them.
@@ -99,6 +101,7 @@ private:
     mutable std::vector<LdrLevel> ldr_levels_;
     mutable std::once_flag decoded_once_;
     mutable std::vector<LdrLevel> decoded_levels_;
+    mutable std::atomic<bool> decoded_flag_{false};
     mutable std::atomic<bool> built_flag_{false};
     mutable double build_seconds_ = 0.0;
 };
