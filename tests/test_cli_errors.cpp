@@ -965,6 +965,16 @@ TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and 
     int not_measured = 0;
     while (std::getline(again, line)) not_measured += line.find("| not measured: ") != std::string::npos ? 1 : 0;
     CHECK(not_measured == 5 + 2 + 8 + 2);  // spans: its two time ratios (its error bounds hold at any size)
+    // The scale table counts the decoded texel copies the frames made: the 1024^2 trilinear
+    // texture's, 16 bytes a texel on every level, 16 MiB x (1 + 1/4 + 1/16 + ...) = 21.3 MiB.
+    std::ifstream scale(dir + "/scale.md");
+    bool texture_row = false;
+    while (std::getline(scale, line))
+        if (line.rfind("| texture | plane | 1048576 |", 0) == 0) {
+            texture_row = true;
+            CHECK(line.find(" | 21.3 | ") != std::string::npos);
+        }
+    CHECK(texture_row);
     // Every CSV row names the scene, size, threads, filter and mode (issue 4).
     std::ifstream csv(dir + "/spans.csv");
     std::string header;
