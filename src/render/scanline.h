@@ -219,6 +219,16 @@ template <TexturePath P>
         return bilinear ? bilinear_in(l, u, v) : nearest_in(l, u, v);
     } else {
         texels += std::uint64_t(trilinear_texels(t.last, lambda));
+#if defined(__SSE__)
+        // Both levels decoded: the two lookups and their blend in lanes, the same operations
+        // as trilinear_over's.
+        if (lambda > 0.0 && lambda < double(t.last)) {
+            const int l0 = int(lambda);
+            const LdrLevel &a = t.level(l0), &b = t.level(l0 + 1);
+            if (a.decoded && b.decoded)
+                return color_of_lanes(lerp_lanes(bilinear_decoded_lanes(a, u, v), bilinear_decoded_lanes(b, u, v), float(lambda - l0)));
+        }
+#endif
         return minify_detail::trilinear_over(t.last, lambda, [&](int l) { return bilinear_in(t.level(l), u, v); });
     }
 }

@@ -60,19 +60,31 @@ struct LdrLevel {
     return {rgb[0], rgb[1], rgb[2], a0 + fu * (a1 - a0)};
 }
 
+#if defined(__SSE__)
+// The four channels in the four lanes of one register: a + t (b - a) on each.
+[[gnu::always_inline]] inline __m128 lerp_lanes(__m128 a, __m128 b, float t) {
+    return _mm_add_ps(a, _mm_mul_ps(_mm_set1_ps(t), _mm_sub_ps(b, a)));
+}
+[[gnu::always_inline]] inline Color4 color_of_lanes(__m128 c) {
+    alignas(16) float out[4];
+    _mm_store_ps(out, c);
+    return {out[0], out[1], out[2], out[3]};
+}
+// blend_decoded_texels in lanes (below).
+[[gnu::always_inline]] inline __m128 blend_decoded_lanes(const float* r0, const float* r1, std::size_t c0, std::size_t c1,
+                                                         float fu, float fv) {
+    const __m128 column0 = lerp_lanes(_mm_loadu_ps(r0 + c0), _mm_loadu_ps(r1 + c0), fv);
+    const __m128 column1 = lerp_lanes(_mm_loadu_ps(r0 + c1), _mm_loadu_ps(r1 + c1), fv);
+    return lerp_lanes(column0, column1, fu);
+}
+#endif
+
 // The same blend on decoded texels (LdrLevel::decoded): rows r0 | r1, columns c0 | c1 as
 // float offsets. The same operations on the same values: the same result to the bit.
 [[gnu::always_inline]] inline Color4 blend_decoded_texels(const float* r0, const float* r1, std::size_t c0, std::size_t c1,
                                                           float fu, float fv) {
-#if defined(__SSE__)  // the four channels in the four lanes of one register
-    const __m128 t00 = _mm_loadu_ps(r0 + c0), t01 = _mm_loadu_ps(r1 + c0);
-    const __m128 t10 = _mm_loadu_ps(r0 + c1), t11 = _mm_loadu_ps(r1 + c1);
-    const __m128 v = _mm_set1_ps(fv);
-    const __m128 column0 = _mm_add_ps(t00, _mm_mul_ps(v, _mm_sub_ps(t01, t00)));
-    const __m128 column1 = _mm_add_ps(t10, _mm_mul_ps(v, _mm_sub_ps(t11, t10)));
-    const __m128 blend = _mm_add_ps(column0, _mm_mul_ps(_mm_set1_ps(fu), _mm_sub_ps(column1, column0)));
-    alignas(16) float out[4];
-    _mm_store_ps(out, blend);
+#if defined(__SSE__)
+    return color_of_lanes(blend_decoded_lanes(r0, r1, c0, c1, fu, fv));
 #else
     float out[4];
     for (int c = 0; c < 4; ++c) {
@@ -80,8 +92,8 @@ struct LdrLevel {
         const float column1 = r0[c1 + c] + fv * (r1[c1 + c] - r0[c1 + c]);
         out[c] = column0 + fu * (column1 - column0);
     }
-#endif
     return {out[0], out[1], out[2], out[3]};
+#endif
 }
 
 class Image {

@@ -158,8 +158,15 @@ enum class TexelSource { bytes, decoded, either };
 
 // The short path's bilinear lookup on level l, under the same condition as nearest_in, from
 // the texels `source` says (the same values from either).
-template <TexelSource source = TexelSource::either>
-[[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
+namespace reconstruct_detail {
+
+// The short path's bilinear cell on level l: the offsets of its two rows (bytes, or floats
+// in the decoded copy) and two columns, and the fractions between them.
+struct ShortPathCell {
+    std::size_t row0, row1, column0, column1;
+    float fx, fy;
+};
+[[gnu::always_inline]] inline ShortPathCell short_path_cell(const LdrLevel& l, double u, double v) {
     const double x = u * l.width - 0.5, y = v * l.height - 0.5;
     // floor and fraction from one truncation: x - trunc(x) is exact, and adding 1 when x is
     // below its truncation rounds the same real number that x - floor(x) rounds.
@@ -170,14 +177,27 @@ template <TexelSource source = TexelSource::either>
     const double fx = (x - di) + (below_x ? 1.0 : 0.0), fy = (y - dj) + (below_y ? 1.0 : 0.0);
     // (the short paths' levels are powers of two: a row is 2^row_shift bytes, or floats in
     // the decoded copy)
-    if (source == TexelSource::decoded || (source == TexelSource::either && l.decoded))
-        return blend_decoded_texels(l.decoded + (std::size_t(j & l.mask_v) << l.row_shift),
-                                    l.decoded + (std::size_t((j + 1) & l.mask_v) << l.row_shift),
-                                    std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, float(fx), float(fy));
-    return blend_ldr_texels(l.texels + (std::size_t(j & l.mask_v) << l.row_shift),
-                            l.texels + (std::size_t((j + 1) & l.mask_v) << l.row_shift), std::size_t(i & l.mask_u) * 4,
-                            std::size_t((i + 1) & l.mask_u) * 4, l.decode, float(fx), float(fy));
+    return {std::size_t(j & l.mask_v) << l.row_shift, std::size_t((j + 1) & l.mask_v) << l.row_shift,
+            std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, float(fx), float(fy)};
 }
+
+}  // namespace reconstruct_detail
+
+template <TexelSource source = TexelSource::either>
+[[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
+    const reconstruct_detail::ShortPathCell c = reconstruct_detail::short_path_cell(l, u, v);
+    if (source == TexelSource::decoded || (source == TexelSource::either && l.decoded))
+        return blend_decoded_texels(l.decoded + c.row0, l.decoded + c.row1, c.column0, c.column1, c.fx, c.fy);
+    return blend_ldr_texels(l.texels + c.row0, l.texels + c.row1, c.column0, c.column1, l.decode, c.fx, c.fy);
+}
+
+#if defined(__SSE__)
+// bilinear_in on a level with a decoded copy, in lanes (image.h, blend_decoded_lanes).
+[[gnu::always_inline]] inline __m128 bilinear_decoded_lanes(const LdrLevel& l, double u, double v) {
+    const reconstruct_detail::ShortPathCell c = reconstruct_detail::short_path_cell(l, u, v);
+    return blend_decoded_lanes(l.decoded + c.row0, l.decoded + c.row1, c.column0, c.column1, c.fx, c.fy);
+}
+#endif
 
 [[gnu::always_inline]] inline Color4 sample_bilinear_repeat_pow2(const Image& image, const Sampler& sampler, double u, double v) {
     const double x = u * image.width() - 0.5, y = v * image.height() - 0.5;
