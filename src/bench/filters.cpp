@@ -93,7 +93,8 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
     for (const FilterRow& r : rows) {
         const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
         csv += r.scene + "," + std::to_string(r.width) + "," + std::to_string(r.height) + "," + std::to_string(r.threads) +
-               "," + r.filter + ",incremental," + fixed(r.load_ms, 3) + "," + fixed(r.mip_ms, 3) + "," + fixed(r.decode_ms, 3) + "," + fixed(r.frame_ms, 3) + "," +
+               "," + r.filter + ",incremental," + fixed(r.load_ms, 3) + "," + fixed(r.mip_ms, 3) + "," + fixed(r.decode_ms, 3) +
+               "," + fixed(r.frame_ms, 3) + "," +
                fixed(r.covered_pixels, 0) + "," + fixed(r.mpix_per_s, 2) + "," + fixed(r.psnr_db, 3) + "," +
                fixed(r.ssim, 5) + "," + fixed(r.texels_per_pixel, 2) + "\n";
         md += "| " + r.scene + " | " + size + " | " + std::to_string(r.threads) + " | " + r.filter + " | incremental | " +

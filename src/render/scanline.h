@@ -226,7 +226,8 @@ template <TexturePath P>
             const int l0 = int(lambda);
             const LdrLevel &a = t.level(l0), &b = t.level(l0 + 1);
             if (a.decoded && b.decoded)
-                return color_of_lanes(lerp_lanes(bilinear_decoded_lanes(a, u, v), bilinear_decoded_lanes(b, u, v), float(lambda - l0)));
+                return color_of_lanes(
+                    lerp_lanes(bilinear_decoded_lanes(a, u, v), bilinear_decoded_lanes(b, u, v), float(lambda - l0)));
         }
 #endif
         return minify_detail::trilinear_over(t.last, lambda, [&](int l) { return bilinear_in(t.level(l), u, v); });
@@ -273,19 +274,21 @@ inline bool span_within_short_path_limit(const ShortPathTexture& t, bool stepped
 // H): a span that crosses rows (a square at a grazing angle, turned) reads new lines at
 // every pixel. The derivatives are taken at the span's two ends (along a row, du/dx and
 // dv/dx are c / q^2 for a constant c, so their extremes are there; dv/dy's numerator varies
-// along the row, so its value between the ends may be larger: this is an estimate, which
-// only ever changes the time, never the bytes). A NaN derivative reads the bytes. Measured, 1 thread, alternated runs,
-// bytes against this choice: the receding plane 3.67-3.89 / 2.74-2.90 ms, at 1920x1080
-// 10.06-10.43 / 7.06-7.19 ms; a minified 10k-triangle terrain 15.89-16.17 / 16.54-16.81 ms;
-// the grazing square 4.63-4.70 / 4.50-4.68 ms. Reading the copy on every span took the terrain to 19-23 ms
-// and the grazing square to 4.8-5.2 ms (from 4.5).
+// along the row, so its value between the ends may be larger: an estimate, which only ever
+// changes the time, never the bytes). A NaN derivative reads the bytes.
+// Measured, 1 thread, alternated runs, bytes against this choice: the receding plane
+// 3.67-3.89 / 2.74-2.90 ms, at 1920x1080 10.06-10.43 / 7.06-7.19 ms; a minified
+// 10k-triangle terrain 15.89-16.17 / 16.54-16.81 ms; the grazing square 4.63-4.70 /
+// 4.50-4.68 ms. Reading the copy on every span took the terrain to 19-23 ms and the grazing
+// square to 4.8-5.2 ms (from 4.5).
 constexpr double max_rows_per_pixel = 4.0;
 inline bool span_reads_closely(const TextureHomography& h, double width, double height, int y, int x0, int x1) {
     double su_min = 1e300, su_max = 0.0, sv_max = 0.0;
     for (const int x : {x0, x1 - 1}) {
         const double px = x + 0.5, py = y + 0.5;
         const double inv_q = 1.0 / h.q.at(px, py);
-        const UVDerivatives d = uv_derivatives_from_inverse_q(h, h.u_prime.at(px, py) * inv_q, h.v_prime.at(px, py) * inv_q, inv_q);
+        const UVDerivatives d =
+            uv_derivatives_from_inverse_q(h, h.u_prime.at(px, py) * inv_q, h.v_prime.at(px, py) * inv_q, inv_q);
         if (!(std::fabs(d.dvdx) * height <= max_rows_per_pixel)) return false;  // (also false for NaN)
         const double su = std::fabs(d.dudx) * width, sv = std::fabs(d.dvdy) * height;
         if (std::isnan(su) || std::isnan(sv)) return false;
@@ -450,7 +453,8 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
 // they gain) that reads closely, once the copy is made (for the first such span; null over
 // budget).
 inline bool reads_decoded_copy(const DrawContext& d, const TriangleSetup& s, int y, Span span, ShortPathTexture& t) {
-    if (span.x1 - span.x0 < batched_from || !span_reads_closely(s.h, t.base.width, t.base.height, y, span.x0, span.x1)) return false;
+    if (span.x1 - span.x0 < batched_from || !span_reads_closely(s.h, t.base.width, t.base.height, y, span.x0, span.x1))
+        return false;
     if (!t.base.decoded) t.base.decoded = d.texture->image->decoded_texels();
     return t.base.decoded != nullptr;
 }

@@ -156,8 +156,6 @@ namespace reconstruct_detail {
 // one), or the decoded copy if the level has one.
 enum class TexelSource { bytes, decoded, either };
 
-// The short path's bilinear lookup on level l, under the same condition as nearest_in, from
-// the texels `source` says (the same values from either).
 namespace reconstruct_detail {
 
 // The short path's bilinear cell on level l: the offsets of its two rows (bytes, or floats
@@ -183,6 +181,8 @@ struct ShortPathCell {
 
 }  // namespace reconstruct_detail
 
+// The short path's bilinear lookup on level l, under the same condition as nearest_in, from
+// the texels `source` says (the same values from either).
 template <TexelSource source = TexelSource::either>
 [[gnu::always_inline]] inline Color4 bilinear_in(const LdrLevel& l, double u, double v) {
     const reconstruct_detail::ShortPathCell c = reconstruct_detail::short_path_cell(l, u, v);
