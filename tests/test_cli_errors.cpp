@@ -512,12 +512,21 @@ TEST_CASE("--stats and --repeat report counters and a median frame time") {
     // A texture's memory: a 256x256 8-bit image is 0.25 MiB; the triangle is
     // magnified (no mip levels) and filtered bilinearly (a decoded copy, 4 floats a texel,
     // which spans of 16 pixels or more read).
-    write_text(dir + "/textured.txt", "size 128 96\ncamera eye 0 0 3\ntexture grid file " + source_path("models/textures/uvgrid.png") +
-                                           " filter bilinear\nmaterial m texture grid\n"
+    // A second texture of the same file shares its image, counted once; a texture no
+    // material uses has its texels and nothing else.
+    const std::string grid = source_path("models/textures/uvgrid.png");
+    write_text(dir + "/textured.txt", "size 128 96\ncamera eye 0 0 3\ntexture grid file " + grid +
+                                           " filter bilinear\ntexture again file " + grid + " filter nearest\n"
+                                           "texture other file " + source_path("models/textures/checker.png") +
+                                           "\nmaterial m texture grid\n"
                                            "triangle material m v -1 -1 0 0 0 v 1 -1 0 0.01 0 v 0 1 0 0.005 0.01\n");
     const RunResult textured = run_texr("render " + dir + "/textured.txt -o " + dir + "/out.png --stats");
     CAPTURE(textured.output);
-    CHECK(textured.output.find("texture grid         256x256 8-bit 0.25 MiB; mip levels not built; decoded copies 1.00 MiB") !=
+    CHECK(textured.output.find("texture grid         256x256 8-bit 0.25 MiB; mip levels not built; decoded copies 1.00 MiB\n") !=
+          std::string::npos);
+    CHECK(textured.output.find("texture again        256x256 8-bit (the image of texture grid); mip levels not built\n") !=
+          std::string::npos);
+    CHECK(textured.output.find("texture other        256x256 8-bit 0.25 MiB; mip levels not built; decoded copies none\n") !=
           std::string::npos);
     // The worker threads the frame used: --threads, at most one per 8 rows (24 rows: 3).
     for (const auto& [given, used] : {std::pair<int, int>{2, 2}, {5, 3}}) {

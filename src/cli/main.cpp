@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -84,8 +85,9 @@ const char* render_help =
     "  --stats             print counters (triangles in / clipped / culled / dropped /\n"
     "                      set up, spans, pixels shaded, texels fetched), what each\n"
     "                      material needs, each texture's memory (texels, mip levels\n"
-    "                      if built, decoded copies if made), the worker threads used,\n"
-    "                      and the time of each stage\n"
+    "                      if built, decoded copies if made; an image that textures\n"
+    "                      share counted at the first), the worker threads used, and\n"
+    "                      the time of each stage\n"
     "  -h, --help          show this help\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
@@ -212,15 +214,40 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     for (const texr::Material& m : scene.materials)
         std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
     // What each texture holds after the frames: what was built or decoded shows what was read.
+    // Textures of one file share its image (and, with cell registration, its mip levels):
+    // the memory is counted at the first texture that names them.
     const auto mib = [](std::size_t bytes) { return double(bytes) / 1048576.0; };
+    std::map<const texr::Image*, std::string> image_of;   // image -> the first texture naming it
+    std::map<const texr::MipMap*, std::string> levels_of;  // likewise for mip levels
     for (const texr::Texture& t : scene.textures) {
         const texr::Image& image = *t.image;
-        const bool levels = t.mipmap && t.mipmap->built();
-        const std::size_t decoded = image.decoded_bytes() + (t.mipmap ? t.mipmap->decoded_bytes() : 0);
-        char built[48] = "not built";
-        if (levels) std::snprintf(built, sizeof built, "%.2f MiB", mib(t.mipmap->bytes()));
-        std::printf("texture %-12s %dx%d %s %.2f MiB; mip levels %s; decoded copies %.2f MiB\n", t.name.c_str(),
-                    image.width(), image.height(), image.is_hdr() ? "float" : "8-bit", mib(image.bytes()), built, mib(decoded));
+        const auto [at_image, first_image] = image_of.emplace(&image, t.name);
+        const auto [at_levels, first_levels] = levels_of.emplace(t.mipmap.get(), t.name);
+        std::string line = std::to_string(image.width()) + "x" + std::to_string(image.height()) +
+                           (image.is_hdr() ? " float " : " 8-bit ");
+        char text[64];
+        std::size_t decoded = 0;
+        if (first_image) {
+            std::snprintf(text, sizeof text, "%.2f MiB", mib(image.bytes()));
+            line += text;
+            decoded += image.decoded_bytes();
+        } else {
+            line += "(the image of texture " + at_image->second + ")";
+        }
+        if (!t.mipmap || !t.mipmap->built()) {
+            line += "; mip levels not built";
+        } else if (first_levels) {
+            std::snprintf(text, sizeof text, "; mip levels %.2f MiB", mib(t.mipmap->bytes()));
+            line += text;
+            decoded += t.mipmap->decoded_bytes();
+        } else {
+            line += "; mip levels of texture " + at_levels->second;
+        }
+        if (first_image || first_levels) {
+            std::snprintf(text, sizeof text, "; decoded copies %.2f MiB", mib(decoded));
+            line += decoded ? text : "; decoded copies none";
+        }
+        std::printf("texture %-12s %s\n", t.name.c_str(), line.c_str());
     }
     std::printf("threads            %d  (worker threads: --threads, or one per core; at most one per 8 rows)\n", s.workers);
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);

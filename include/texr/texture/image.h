@@ -83,8 +83,17 @@ struct LdrLevel {
 // float offsets. The same operations on the same values: the same result to the bit.
 [[gnu::always_inline]] inline Color4 blend_decoded_texels(const float* r0, const float* r1, std::size_t c0, std::size_t c1,
                                                           float fu, float fv) {
-#if defined(__SSE__)
-    return color_of_lanes(blend_decoded_lanes(r0, r1, c0, c1, fu, fv));
+#if defined(__SSE__)  // (written out rather than through blend_decoded_lanes: anisotropic
+                      // filtering, which sums these, took 15% more instructions that way)
+    const __m128 t00 = _mm_loadu_ps(r0 + c0), t01 = _mm_loadu_ps(r1 + c0);
+    const __m128 t10 = _mm_loadu_ps(r0 + c1), t11 = _mm_loadu_ps(r1 + c1);
+    const __m128 v = _mm_set1_ps(fv);
+    const __m128 column0 = _mm_add_ps(t00, _mm_mul_ps(v, _mm_sub_ps(t01, t00)));
+    const __m128 column1 = _mm_add_ps(t10, _mm_mul_ps(v, _mm_sub_ps(t11, t10)));
+    const __m128 blend = _mm_add_ps(column0, _mm_mul_ps(_mm_set1_ps(fu), _mm_sub_ps(column1, column0)));
+    alignas(16) float out[4];
+    _mm_store_ps(out, blend);
+    return {out[0], out[1], out[2], out[3]};
 #else
     float out[4];
     for (int c = 0; c < 4; ++c) {
