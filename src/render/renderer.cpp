@@ -137,14 +137,14 @@ bool spin_until(Done done, MaySpin may_spin) {
 // Another process running on the same cores makes spinning a loss even when this process's
 // workers fit on them: a spinner keeps a core that the late worker, or the other process,
 // could use. Two texr processes each drawing 2-thread terrain frames on 2 cores took 241-248
-// ms a frame (126-128 ms with this), against 107-109 ms for their 1-thread frames. A worker that finds it has
-// waited for a core (the run-queue delay the kernel keeps for each thread, in
-// /proc/thread-self/schedstat) for more than contended_wait since its last look (looks are
-// 1 to 2 contended_check apart) stops every waiter of the process from spinning for the
-// next spin_pause. (Two other signals were measured and dropped: a spin that ran its whole time,
-// which a worker slow to wake from sleep also causes, so the pauses chained; and any rise in
-// the involuntary context switches, which a lone process also shows before 1-5% of its
-// waits. docs/benchmark-history.md has the numbers.)
+// ms a frame (126-128 ms with this), against 107-109 ms for their 1-thread frames. A worker
+// that finds it has waited for a core (the run-queue delay the kernel keeps for each
+// thread, in /proc/thread-self/schedstat) for more than contended_wait since its last look
+// (looks are 1 to 2 contended_check apart) stops every waiter of the process from spinning
+// for the next spin_pause. (Two other signals were measured and dropped: a spin that ran its
+// whole time, which a worker slow to wake from sleep also causes, so the pauses chained; and
+// any rise in the involuntary context switches, which a lone process also shows before 1-5%
+// of its waits. docs/benchmark-history.md has the numbers.)
 constexpr auto contended_check = std::chrono::milliseconds(1);
 constexpr long long contended_wait_ns = 200000;  // 0.2 ms
 constexpr auto spin_pause = std::chrono::milliseconds(20);

@@ -512,9 +512,9 @@ void walk_triangle(const DrawContext& d, const TriangleSetup& s, const RowSet& r
         short_path.mip = d.texture->mipmap.get();
         short_path.last = short_path.mip ? short_path.mip->level_count() - 1 : 0;
         // (A triangle narrower than a batched span has no span that could read the copy.)
-        const double width = std::max({s.screen[0].x, s.screen[1].x, s.screen[2].x}) -
-                             std::min({s.screen[0].x, s.screen[1].x, s.screen[2].x});
-        if (path == TexturePath::bilinear && width >= batched_from - 1 && d.texture->image->may_be_decoded())
+        if (path == TexturePath::bilinear && d.texture->image->may_be_decoded() &&
+            std::max({s.screen[0].x, s.screen[1].x, s.screen[2].x}) - std::min({s.screen[0].x, s.screen[1].x, s.screen[2].x}) >=
+                batched_from - 1)
             path = TexturePath::bilinear_decoded;
     }
     for (int y = rows.first_owned(s.first_row); y <= s.last_row; y = rows.next_owned(y)) {
