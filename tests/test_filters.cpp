@@ -3,9 +3,11 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "texr/scene/scene.h"
 #include "texr/texture/ewa.h"
@@ -391,6 +393,46 @@ TEST_CASE("the level of detail's log2 is within 1e-13 of std::log2 and exact at 
     CHECK(std::isnan(log2_positive(std::nan(""))));
     CHECK(log2_positive(5e-324) == -1074.0);
 }
+
+#if defined(__SSE2__)
+TEST_CASE("level_of_detail_lanes gives level_of_detail's bits in each lane, special values included") {
+    // The lanes are worked out by the scalar function, one footprint at a time: each lane of
+    // every pair must be the same double, bit for bit (the span walk relies on it for
+    // frames that are the same bytes either way).
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+    const std::vector<double> specials = {0.0, -0.0, nan, inf, -inf, 5e-324, -4e-310, 1e-160, 1e160, 1e300, 1.0, -0.5};
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> exponent(-40.0, 40.0), unit(0.0, 1.0);
+    const auto random_component = [&] {
+        if (unit(rng) < 0.05) return specials[std::size_t(unit(rng) * double(specials.size())) % specials.size()];
+        return (unit(rng) < 0.5 ? -1.0 : 1.0) * std::pow(2.0, exponent(rng));
+    };
+    const auto bits = [](double x) {
+        std::uint64_t b;
+        std::memcpy(&b, &x, sizeof b);
+        return b;
+    };
+    int differing = 0, pairs = 0, special_lanes = 0;
+    for (int i = 0; i < 400000; ++i) {
+        UVDerivatives d[2];
+        for (UVDerivatives& e : d) e = {random_component(), random_component(), random_component(), random_component()};
+        const int width = i % 3 == 0 ? 1024 : 1 << (i % 12), height = i % 5 == 0 ? 768 : 1 << (i % 9);
+        alignas(16) double lanes[2];
+        _mm_store_pd(lanes, level_of_detail_lanes(_mm_set_pd(d[1].dudx, d[0].dudx), _mm_set_pd(d[1].dvdx, d[0].dvdx),
+                                                  _mm_set_pd(d[1].dudy, d[0].dudy), _mm_set_pd(d[1].dvdy, d[0].dvdy),
+                                                  width, height));
+        for (int k = 0; k < 2; ++k) {
+            const double scalar = level_of_detail(d[k], width, height);
+            differing += bits(lanes[k]) != bits(scalar);
+            special_lanes += !(std::fabs(scalar) < 1e9) || scalar < -1000.0;
+        }
+        ++pairs;
+    }
+    CHECK(differing == 0);
+    CHECK(special_lanes > 1000);  // zero, infinite and subnormal footprints were among them
+    MESSAGE(pairs << " pairs, " << special_lanes << " lanes at a point, infinite or subnormal footprint");
+}
+#endif
 
 TEST_CASE("anisotropic and EWA filtering of a constant texture return the constant") {
     const MipMap mip(std::make_shared<Image>(constant_ldr(50, 70, 200)));

@@ -345,7 +345,35 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
             depth.advance(), q.advance(), u_prime.advance(), v_prime.advance();
             if constexpr (lit) normal.advance();
         }
-        for (int k = 0; k < n; ++k) {  // pass 2
+        int k = 0;  // pass 2
+#if defined(__SSE2__)
+        // Two pixels at a time, one in each lane of SSE2's doubles, with the same operations
+        // as the loop below, so the same bits (level_of_detail_lanes). The divide's and the
+        // level of detail's chains then overlap for twice as many pixels. Measured, 1 thread,
+        // alternated runs: the plane's trilinear frame 7.13-7.24 against 7.87-8.23 ms, bilinear
+        // 2.79-2.88 against 2.89-2.95 ms.
+        if (divide)
+            for (; k + 1 < n; k += 2) {
+                const __m128d inv_q = _mm_div_pd(_mm_set1_pd(1.0), _mm_loadu_pd(qs + k));
+                _mm_storeu_pd(qs + k, inv_q);
+                __m128d u = _mm_loadu_pd(us + k), v = _mm_loadu_pd(vs + k);
+                if (stepped_uv) {
+                    u = _mm_mul_pd(u, inv_q), v = _mm_mul_pd(v, inv_q);
+                    _mm_storeu_pd(us + k, u), _mm_storeu_pd(vs + k, v);
+                }
+                if constexpr (footprint) {
+                    const auto derivative = [&](double d_prime, __m128d value, double dq) {  // uv_derivatives_from_inverse_q
+                        return _mm_mul_pd(_mm_sub_pd(_mm_set1_pd(d_prime), _mm_mul_pd(value, _mm_set1_pd(dq))), inv_q);
+                    };
+                    const __m128d lambda = level_of_detail_lanes(
+                        derivative(s.h.u_prime.dx, u, s.h.q.dx), derivative(s.h.v_prime.dx, v, s.h.q.dx),
+                        derivative(s.h.u_prime.dy, u, s.h.q.dy), derivative(s.h.v_prime.dy, v, s.h.q.dy),
+                        int(t.base.width), int(t.base.height));
+                    _mm_storeu_pd(lambdas + k, lambda);
+                }
+            }
+#endif
+        for (; k < n; ++k) {
             const double inv_q = divide ? 1.0 / qs[k] : 1.0;  // the one divide per pixel
             qs[k] = inv_q;
             if (stepped_uv) us[k] *= inv_q, vs[k] *= inv_q;
