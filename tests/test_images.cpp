@@ -4,8 +4,10 @@
 
 #include <stb_image_write.h>
 
-#include <cmath>
+#include <array>
 #include <atomic>
+#include <cmath>
+#include <cstring>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -281,6 +283,60 @@ TEST_CASE("an 8-bit image's decoded copy holds what texel() reads, and bilinear 
     CHECK(hdr.decoded_texels() == nullptr);
     CHECK(hdr.ldr_level(true).decoded == nullptr);
 }
+
+#if defined(__SSE2__)
+TEST_CASE("short_path_cells finds short_path_cell's cells on two levels at once, to the bit") {
+    // Levels described by their sizes alone (a cell is worked out without reading texels).
+    const auto level = [](int w, int h) {
+        LdrLevel l;
+        l.width = w, l.height = h, l.mask_u = w - 1, l.mask_v = h - 1;
+        l.row_bytes = std::size_t(w) * 4;
+        while ((std::size_t(1) << l.row_shift) < l.row_bytes) ++l.row_shift;
+        return l;
+    };
+    std::uint64_t state = 5;
+    const auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return state >> 11;
+    };
+    const auto same = [](const reconstruct_detail::ShortPathCell& a, const reconstruct_detail::ShortPathCell& b) {
+        return a.row0 == b.row0 && a.row1 == b.row1 && a.column0 == b.column0 && a.column1 == b.column1 &&
+               std::memcmp(&a.fx, &b.fx, sizeof a.fx) == 0 && std::memcmp(&a.fy, &b.fy, sizeof a.fy) == 0;
+    };
+    int differing = 0, checked = 0, below_whole = 0;
+    for (const auto& sizes : {std::array<int, 4>{16, 8, 8, 4}, std::array<int, 4>{1024, 1024, 512, 512},
+                              std::array<int, 4>{2, 1, 1, 1}, std::array<int, 4>{4096, 256, 2048, 128}}) {
+        const LdrLevel a = level(sizes[0], sizes[1]), b = level(sizes[2], sizes[3]);
+        for (int n = 0; n < 40000; ++n) {
+            // Coordinates from a texel to the short paths' limit (|u W| + 1 < 1e15), and the
+            // points where x = u W - 1/2 is whole or a rounding away from it, on either side of 0.
+            const double limit = (short_path_limit - 1.0) / std::max(a.width, a.height);
+            const double scale = n % 4 == 0 ? 1.0 : n % 4 == 1 ? 1e3 : n % 4 == 2 ? 1e7 : limit;
+            double u = (double(next()) * 0x1p-53 * 2.0 - 1.0) * scale, v = (double(next()) * 0x1p-53 * 2.0 - 1.0) * scale;
+            if (n % 5 == 0) {
+                const double whole = std::floor(u * a.width);
+                u = (whole + 0.5) / a.width;
+                if (n % 3 == 1) u = std::nextafter(u, -1e300);
+                if (n % 3 == 2) u = std::nextafter(u, 1e300);
+                v = -std::ldexp(1.0, -int(next() % 60)) / a.height + 0.5 / a.height;  // just below a whole x
+            }
+            reconstruct_detail::ShortPathCell ca, cb;
+            reconstruct_detail::short_path_cells(a, b, u, v, ca, cb);
+            const bool ok = same(ca, reconstruct_detail::short_path_cell(a, u, v)) && same(cb, reconstruct_detail::short_path_cell(b, u, v));
+            if (!ok) {
+                CAPTURE(u);
+                CAPTURE(v);
+                CHECK(ok);
+            }
+            differing += !ok, ++checked;
+            below_whole += v * a.height - 0.5 < 0.0 && v * a.height - 0.5 > -1e-6;
+        }
+    }
+    CHECK(differing == 0);
+    CHECK(below_whole > 1000);  // fractions just below a whole number were among them
+    MESSAGE(checked << " pairs of cells compared");
+}
+#endif
 
 TEST_CASE("decoded copies stop at the size limit and at the process's budget, and give their bytes back") {
     // Above max_decoded_texels (1024 x 1024) an image has no copy.

@@ -220,14 +220,20 @@ template <TexturePath P>
     } else {
         texels += std::uint64_t(trilinear_texels(t.last, lambda));
 #if defined(__SSE__)
-        // Both levels decoded: the two lookups and their blend in lanes, the same operations
-        // as trilinear_over's.
+        // Both levels decoded: the two cells, the two lookups and their blend in lanes, the
+        // same operations as trilinear_over's. (The cells in lanes took the plane's frame from
+        // 7.15-7.37 to 6.44-6.69 ms, 1 thread, alternated runs.)
         if (lambda > 0.0 && lambda < double(t.last)) {
             const int l0 = int(lambda);
             const LdrLevel &a = t.level(l0), &b = t.level(l0 + 1);
-            if (a.decoded && b.decoded)
+            if (a.decoded && b.decoded) {
+                reconstruct_detail::ShortPathCell ca, cb;
+                reconstruct_detail::short_path_cells(a, b, u, v, ca, cb);
                 return color_of_lanes(
-                    lerp_lanes(bilinear_decoded_lanes(a, u, v), bilinear_decoded_lanes(b, u, v), float(lambda - l0)));
+                    lerp_lanes(blend_decoded_lanes(a.decoded + ca.row0, a.decoded + ca.row1, ca.column0, ca.column1, ca.fx, ca.fy),
+                               blend_decoded_lanes(b.decoded + cb.row0, b.decoded + cb.row1, cb.column0, cb.column1, cb.fx, cb.fy),
+                               float(lambda - l0)));
+            }
         }
 #endif
         return minify_detail::trilinear_over(t.last, lambda, [&](int l) { return bilinear_in(t.level(l), u, v); });

@@ -7,6 +7,10 @@
 #include <cmath>
 #include <cstdint>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "texr/texture/image.h"
 #include "texr/texture/sampler.h"
 
@@ -178,6 +182,41 @@ struct ShortPathCell {
     return {std::size_t(j & l.mask_v) << l.row_shift, std::size_t((j + 1) & l.mask_v) << l.row_shift,
             std::size_t(i & l.mask_u) * 4, std::size_t((i + 1) & l.mask_u) * 4, float(fx), float(fy)};
 }
+
+#if defined(__SSE2__)
+// short_path_cell on two levels at once (trilinear's two), x and y each in SSE2 lanes, for
+// the same cells to the bit. The floor comes from rounding to an integer by adding and
+// subtracting 1.5 2^52 (exact for |x| < 2^51; the short paths' coordinates are below
+// short_path_limit = 1e15 < 2^50), less 1 where that rounded up; the fraction x - floor(x)
+// is then one rounding of the same real number as short_path_cell's.
+[[gnu::always_inline]] inline void short_path_cells(const LdrLevel& a, const LdrLevel& b, double u, double v, ShortPathCell& ca,
+                                                    ShortPathCell& cb) {
+    const __m128d magic = _mm_set1_pd(0x1.8p52), half = _mm_set1_pd(0.5), one = _mm_set1_pd(1.0);
+    struct Split {
+        __m128i whole;
+        __m128 fraction;  // (two floats, in the low lanes)
+    };
+    const auto split = [&](__m128d x) {
+        const __m128d shifted = _mm_add_pd(x, magic);
+        const __m128d rounded = _mm_sub_pd(shifted, magic);
+        const __m128d up = _mm_cmplt_pd(x, rounded);  // rounded up: floor is one less
+        const __m128i whole = _mm_add_epi64(_mm_sub_epi64(_mm_castpd_si128(shifted), _mm_castpd_si128(magic)),
+                                            _mm_castpd_si128(up));
+        const __m128d floor = _mm_sub_pd(rounded, _mm_and_pd(up, one));
+        return Split{whole, _mm_cvtpd_ps(_mm_sub_pd(x, floor))};
+    };
+    const Split x = split(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(u), _mm_set_pd(b.width, a.width)), half));
+    const Split y = split(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(v), _mm_set_pd(b.height, a.height)), half));
+    const std::int64_t ia = _mm_cvtsi128_si64(x.whole), ib = _mm_cvtsi128_si64(_mm_unpackhi_epi64(x.whole, x.whole));
+    const std::int64_t ja = _mm_cvtsi128_si64(y.whole), jb = _mm_cvtsi128_si64(_mm_unpackhi_epi64(y.whole, y.whole));
+    alignas(16) float fx[4], fy[4];
+    _mm_store_ps(fx, x.fraction), _mm_store_ps(fy, y.fraction);
+    ca = {std::size_t(ja & a.mask_v) << a.row_shift, std::size_t((ja + 1) & a.mask_v) << a.row_shift,
+          std::size_t(ia & a.mask_u) * 4, std::size_t((ia + 1) & a.mask_u) * 4, fx[0], fy[0]};
+    cb = {std::size_t(jb & b.mask_v) << b.row_shift, std::size_t((jb + 1) & b.mask_v) << b.row_shift,
+          std::size_t(ib & b.mask_u) * 4, std::size_t((ib + 1) & b.mask_u) * 4, fx[1], fy[1]};
+}
+#endif
 
 }  // namespace reconstruct_detail
 
