@@ -434,6 +434,40 @@ TEST_CASE("level_of_detail_lanes gives level_of_detail's bits in each lane, spec
 }
 #endif
 
+#if defined(__SSE2__)
+TEST_CASE("trilinear_levels_lanes gives trilinear's level int(lambda) and fraction float(lambda - l0), -1 at the ends") {
+    const double inf = std::numeric_limits<double>::infinity();
+    const int last = 10;
+    std::vector<double> values = {0.0, -0.0, 5e-324, 1e-300, 0.5, 1.0, std::nextafter(1.0, 0.0), 9.0, std::nextafter(10.0, 0.0),
+                                  10.0, 10.5, -0.5, -1e9, 1e300, inf, -inf, std::nan("")};
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> any(-1.0, 11.0);
+    for (int i = 0; i < 2000; ++i) values.push_back(any(rng));
+    int checked = 0, inside = 0;
+    for (int n = 0; n <= 32; ++n)
+        for (std::size_t start = 0; start + std::size_t(n) <= values.size(); start += 37) {
+            int l0s[32];
+            float fractions[32];
+            trilinear_levels_lanes(values.data() + start, n, last, l0s, fractions);
+            for (int k = 0; k < n; ++k) {
+                const double lambda = values[start + std::size_t(k)];
+                CAPTURE(lambda);
+                if (lambda > 0.0 && lambda < last) {
+                    const float fraction = float(lambda - int(lambda));
+                    REQUIRE(l0s[k] == int(lambda));
+                    REQUIRE(std::memcmp(&fractions[k], &fraction, sizeof fraction) == 0);
+                    ++inside;
+                } else {
+                    REQUIRE(l0s[k] == -1);
+                }
+                ++checked;
+            }
+        }
+    CHECK(inside > checked / 2);
+    MESSAGE(checked << " levels of detail, " << inside << " between the ends");
+}
+#endif
+
 TEST_CASE("anisotropic and EWA filtering of a constant texture return the constant") {
     const MipMap mip(std::make_shared<Image>(constant_ldr(50, 70, 200)));
     const Color4 expected = mip.base().texel(0, 0);

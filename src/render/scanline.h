@@ -206,19 +206,25 @@ struct ShortPathTexture {
 // texels counted. False (and nothing read) at either end of the pyramid, or when a level
 // has no copy. (The cells
 // in lanes took the plane's frame from 7.15-7.37 to 6.44-6.69 ms, 1 thread, alternated runs.)
-[[gnu::always_inline]] inline bool trilinear_decoded_lanes(ShortPathTexture& t, double u, double v, double lambda, __m128& out,
-                                                           std::uint64_t& texels) {
-    if (!(lambda > 0.0 && lambda < double(t.last))) return false;
-    const int l0 = int(lambda);
+// (trilinear_decoded_lanes_at: the same, with the level l0 = int(lambda) and the fraction
+// float(lambda - l0) worked out, lambda strictly between 0 and the coarsest level.)
+[[gnu::always_inline]] inline bool trilinear_decoded_lanes_at(ShortPathTexture& t, double u, double v, int l0, float fraction,
+                                                              __m128& out, std::uint64_t& texels) {
     const LdrLevel &a = t.level(l0), &b = t.level(l0 + 1);
     if (!a.decoded || !b.decoded) return false;
     reconstruct_detail::ShortPathCell ca, cb;
     reconstruct_detail::short_path_cells(a, b, u, v, ca, cb);
     out = lerp_lanes(blend_decoded_lanes(a.decoded + ca.row0, a.decoded + ca.row1, ca.column0, ca.column1, ca.fx, ca.fy),
                      blend_decoded_lanes(b.decoded + cb.row0, b.decoded + cb.row1, cb.column0, cb.column1, cb.fx, cb.fy),
-                     float(lambda - l0));
+                     fraction);
     texels += 8;
     return true;
+}
+[[gnu::always_inline]] inline bool trilinear_decoded_lanes(ShortPathTexture& t, double u, double v, double lambda, __m128& out,
+                                                           std::uint64_t& texels) {
+    if (!(lambda > 0.0 && lambda < double(t.last))) return false;
+    const int l0 = int(lambda);
+    return trilinear_decoded_lanes_at(t, u, v, l0, float(lambda - l0), out, texels);
 }
 #endif
 
@@ -425,11 +431,26 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
         if constexpr ((P == TexturePath::bilinear_decoded || P == TexturePath::trilinear) &&
                       (N & (need_normal | need_color | need_world_position)) == 0)
             if (colour_times_texel) {
-                for (int k = 0; k < n; ++k) {
-                    const __m128 c = _mm_mul_ps(material_colour, short_path_lookup_lanes<P>(t, us[k], vs[k], footprint ? lambdas[k] : 0.0, texels));
+                const auto write = [&](int k, __m128 texel) {
+                    const __m128 c = _mm_mul_ps(material_colour, texel);
                     Color& out = color_row[xs[k]];
                     _mm_storel_pi(reinterpret_cast<__m64*>(&out.x), c);
                     _mm_store_ss(&out.z, _mm_movehl_ps(c, c));
+                };
+                if constexpr (P == TexturePath::trilinear) {
+                    // The batch's levels and fractions first, two at a time (the plane's
+                    // frame 5.80-5.86 -> 5.36-5.55 ms, 1 thread, alternated runs).
+                    int l0s[batch];
+                    float fractions[batch];
+                    trilinear_levels_lanes(lambdas, n, t.last, l0s, fractions);
+                    for (int k = 0; k < n; ++k) {
+                        __m128 texel;
+                        if (l0s[k] < 0 || !trilinear_decoded_lanes_at(t, us[k], vs[k], l0s[k], fractions[k], texel, texels))
+                            texel = short_path_lookup_lanes<P>(t, us[k], vs[k], lambdas[k], texels);
+                        write(k, texel);
+                    }
+                } else {
+                    for (int k = 0; k < n; ++k) write(k, short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels));
                 }
                 shaded += std::uint64_t(n);
                 continue;

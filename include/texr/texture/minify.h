@@ -207,6 +207,29 @@ namespace minify_detail {
                                     _mm_mul_pd(ln, _mm_set1_pd(1.4426950408889634)));
     return _mm_mul_pd(_mm_set1_pd(0.5), log2);
 }
+
+// Trilinear's two levels for n levels of detail, two at a time: for lambda strictly between
+// 0 and `last`, l0 = int(lambda) and fraction = float(lambda - l0), as trilinear_over works
+// them out; l0 = -1 for every other lambda (either end of the pyramid, NaN), whose fraction
+// is not set.
+inline void trilinear_levels_lanes(const double* lambdas, int n, int last, int* l0s, float* fractions) {
+    const __m128d top = _mm_set1_pd(double(last));
+    int k = 0;
+    for (; k + 1 < n; k += 2) {
+        const __m128d lambda = _mm_loadu_pd(lambdas + k);
+        const __m128d between = _mm_and_pd(_mm_cmpgt_pd(lambda, _mm_setzero_pd()), _mm_cmplt_pd(lambda, top));
+        const __m128i whole = _mm_cvttpd_epi32(_mm_and_pd(lambda, between));  // (0 outside)
+        const __m128i inside = _mm_shuffle_epi32(_mm_castpd_si128(between), _MM_SHUFFLE(2, 0, 2, 0));
+        const __m128i level = _mm_or_si128(_mm_and_si128(inside, whole), _mm_andnot_si128(inside, _mm_set1_epi32(-1)));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(l0s + k), level);
+        _mm_storel_pi(reinterpret_cast<__m64*>(fractions + k), _mm_cvtpd_ps(_mm_sub_pd(lambda, _mm_cvtepi32_pd(whole))));
+    }
+    if (k < n) {
+        const double lambda = lambdas[k];
+        l0s[k] = lambda > 0.0 && lambda < double(last) ? int(lambda) : -1;
+        if (l0s[k] >= 0) fractions[k] = float(lambda - l0s[k]);
+    }
+}
 #endif
 
 namespace minify_detail {
