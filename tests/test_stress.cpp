@@ -41,6 +41,7 @@ void add_texture(Scene& scene, Filter filter, Wrap wrap = Wrap::repeat) {
     scene.textures.push_back(t);
     Material m;
     m.texture = int(scene.textures.size()) - 1;
+    m.color = Color(0.9f, 0.35f, 0.6f);  // (not white: shading must multiply by it on every path)
     scene.materials.push_back(m);
 }
 

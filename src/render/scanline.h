@@ -203,11 +203,11 @@ struct ShortPathTexture {
 #if defined(__SSE2__)
 // Trilinear between two levels that both have decoded copies: the two cells, the two
 // lookups and their blend in SSE lanes, the same operations as trilinear_over's, and its 8
-// texels counted. False (and nothing read) at either end of the pyramid, or when a level
-// has no copy. (The cells
-// in lanes took the plane's frame from 7.15-7.37 to 6.44-6.69 ms, 1 thread, alternated runs.)
-// (trilinear_decoded_lanes_at: the same, with the level l0 = int(lambda) and the fraction
-// float(lambda - l0) worked out, lambda strictly between 0 and the coarsest level.)
+// texels counted. trilinear_decoded_lanes_at takes the level l0 = int(lambda) and the
+// fraction float(lambda - l0) worked out, for a lambda its caller has checked to be strictly
+// between 0 and the coarsest level (so that l0 + 1 is a level); false (and nothing read)
+// when either level has no copy. trilinear_decoded_lanes checks lambda itself: false also
+// at either end of the pyramid.
 [[gnu::always_inline]] inline bool trilinear_decoded_lanes_at(ShortPathTexture& t, double u, double v, int l0, float fraction,
                                                               __m128& out, std::uint64_t& texels) {
     const LdrLevel &a = t.level(l0), &b = t.level(l0 + 1);
@@ -392,9 +392,9 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
 #if defined(__SSE2__)
         // Two pixels at a time, one in each lane of SSE2's doubles, with the same operations
         // as the loop below, so the same bits (level_of_detail_lanes). The divide's and the
-        // level of detail's chains then overlap for twice as many pixels. Measured, 1 thread,
-        // alternated runs: the plane's trilinear frame 7.13-7.24 against 7.87-8.23 ms, bilinear
-        // 2.79-2.88 against 2.89-2.95 ms.
+        // level of detail's chains then overlap for twice as many pixels. Measured when it
+        // came, 1 thread, alternated runs: the plane's trilinear frame 7.87-8.23 -> 7.13-7.24
+        // ms, bilinear 2.89-2.95 -> 2.79-2.88 ms.
         if (divide)
             for (; k + 1 < n; k += 2) {
                 const __m128d inv_q = _mm_div_pd(_mm_set1_pd(1.0), _mm_loadu_pd(qs + k));
@@ -427,7 +427,8 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
 #if defined(__SSE2__)
         // The material's colour times the texel, and nothing else to shade (no light, no
         // vertex colour, no NaN to catch): in lanes, as shade() would work it out. (The
-        // plane's trilinear frame 6.47-6.73 -> 6.01-6.21 ms, 1 thread, alternated runs.)
+        // plane's trilinear frame 6.51-6.74 -> 6.07-6.19 ms when it came, 1 thread,
+        // alternated runs.)
         if constexpr ((P == TexturePath::bilinear_decoded || P == TexturePath::trilinear) &&
                       (N & (need_normal | need_color | need_world_position)) == 0)
             if (colour_times_texel) {
@@ -439,7 +440,7 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
                 };
                 if constexpr (P == TexturePath::trilinear) {
                     // The batch's levels and fractions first, two at a time (the plane's
-                    // frame 5.80-5.86 -> 5.36-5.55 ms, 1 thread, alternated runs).
+                    // frame 5.80-5.86 -> 5.36-5.55 ms when it came, 1 thread, alternated runs).
                     int l0s[batch];
                     float fractions[batch];
                     trilinear_levels_lanes(lambdas, n, t.last, l0s, fractions);

@@ -166,7 +166,9 @@ namespace minify_detail {
 // level_of_detail of two footprints at once, one in each lane of SSE2's doubles: the same
 // operations on each lane, in the same order, so the same bits (the span walk's batches
 // take their pixels two at a time: its dependent chain of roughly 30 operations, half of it
-// the series, then overlaps twice as many pixels). A pair with a lane that log2_positive
+// the series, then overlaps twice as many pixels; products and sums must not be fused,
+// -ffp-contract=off in CMakeLists.txt, or the lanes and level_of_detail could differ in
+// their last bits). A pair with a lane that log2_positive
 // hands to std::log2 (zero, subnormal or infinite rho^2) is done lane by lane, as
 // level_of_detail does it.
 [[gnu::always_inline]] inline __m128d level_of_detail_lanes(__m128d dudx, __m128d dvdx, __m128d dudy, __m128d dvdy, int width,
@@ -211,7 +213,7 @@ namespace minify_detail {
 // Trilinear's two levels for n levels of detail, two at a time: for lambda strictly between
 // 0 and `last`, l0 = int(lambda) and fraction = float(lambda - l0), as trilinear_over works
 // them out; l0 = -1 for every other lambda (either end of the pyramid, NaN), whose fraction
-// is not set.
+// is unspecified.
 inline void trilinear_levels_lanes(const double* lambdas, int n, int last, int* l0s, float* fractions) {
     const __m128d top = _mm_set1_pd(double(last));
     int k = 0;

@@ -194,7 +194,10 @@ struct ShortPathCell {
 // to an integer by adding and subtracting 1.5 2^52 (exact for |x| < 2^51; the short paths'
 // coordinates are below short_path_limit = 1e15 < 2^50), less 1 where that rounded up; the
 // fraction x - floor(x), one rounding of the same real number as short_path_cell_scalar's,
-// so the same float. (The integer is read from the low bits of x + 1.5 2^52.)
+// so the same float (but for x = -0, whose fraction is -0 here and +0 there: a lattice
+// position u W - 1/2 is never -0). The integer is read from the low bits of x + 1.5 2^52.
+// Like all of texr's arithmetic, this relies on products and sums not being fused
+// (-ffp-contract=off, CMakeLists.txt).
 struct FloorLanes {
     std::int64_t whole[2];
     float fraction[2];
@@ -214,8 +217,8 @@ struct FloorLanes {
 #endif
 
 // The short path's cell: x and y in the two lanes of SSE2's doubles where it is at hand (the
-// same cell to the bit; the plane's bilinear frame 2.93-2.97 -> 2.53-2.64 ms, anisotropic
-// 54.5-56.1 -> 48.2-49.6 ms, 1 thread, alternated runs).
+// same cell to the bit; when it came, the plane's bilinear frame 2.98-3.01 -> 2.50-2.58 ms,
+// anisotropic 56.6 -> 49.2-50.2 ms, 1 thread, alternated runs).
 [[gnu::always_inline]] inline ShortPathCell short_path_cell(const LdrLevel& l, double u, double v) {
 #if defined(__SSE2__)
     const FloorLanes f = floor_lanes(_mm_sub_pd(_mm_mul_pd(_mm_set_pd(v, u), _mm_set_pd(l.height, l.width)), _mm_set1_pd(0.5)));
@@ -227,8 +230,8 @@ struct FloorLanes {
 
 #if defined(__SSE2__)
 // The cells of one (u, v) on two levels (trilinear's), x on both in one pair of lanes and y
-// in another: the plane's trilinear frame 7.15-7.37 -> 6.44-6.69 ms against one level at a
-// time in scalar code.
+// in another: when it came, the plane's trilinear frame 7.15-7.37 -> 6.44-6.69 ms against
+// one level at a time in scalar code.
 [[gnu::always_inline]] inline void short_path_cells(const LdrLevel& a, const LdrLevel& b, double u, double v, ShortPathCell& ca,
                                                     ShortPathCell& cb) {
     const __m128d half = _mm_set1_pd(0.5);
