@@ -265,7 +265,7 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
               std::string::npos);
         // What stb_image would misread: a size of 0 (which crashed the render), a size beyond
         // its reach, 16-bit samples, and a comment ended by CR before a short file.
-        for (const auto& [header, message] : std::vector<std::pair<std::string, std::string>>{
+        for (const auto& header_message : std::vector<std::pair<std::string, std::string>>{
                  {"P6\n0 0\n255\n", "its header gives a size of 0x0"},
                  {"P6\n3 0\n255\n", "its header gives a size of 3x0"},
                  {"P6\n4294967296 4294967296\n255\n", "its header gives a size of 4294967296x4294967296"},
@@ -277,6 +277,8 @@ TEST_CASE("missing files are named with the scene line that refers to them") {
                  {"P6\n2 2\n#", "its PPM/PGM header is cut short or damaged (no largest value)"},  // the file ends in the comment
                  {"P5 # no numbers at all\n#", "its PPM/PGM header is cut short or damaged (no width)"},
                  {"P6\n2 2 0\n", "its PPM/PGM header gives a largest value of 0"}}) {
+            // (named, not a structured binding: CAPTURE's lambda cannot capture one in C++17)
+            const std::string &header = header_message.first, &message = header_message.second;
             write_text(dir + "/bad.ppm", header + std::string(9, 'x'));
             write_text(dir + "/scene.txt", "texture t file bad.ppm\n" + good_scene);
             const RunResult bad = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
@@ -1171,7 +1173,7 @@ TEST_CASE("a folder or a device named as a mesh, texture, .mtl or scene is refus
     std::system(("mkdir -p " + dir + "/sub && ln -s /dev/null " + dir + "/dev.mtl").c_str());
     write_text(dir + "/lib.obj", "mtllib dev.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     write_text(dir + "/folder-lib.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib sub\nf 1 2 3\n");
-    for (const auto& [line, expected] : {std::pair<std::string, std::string>{"mesh /dev/null\n", "/dev/null: is a device, not an OBJ file"},
+    for (const auto& line_expected : {std::pair<std::string, std::string>{"mesh /dev/null\n", "/dev/null: is a device, not an OBJ file"},
                                          {"mesh .\n", "is a folder, not an OBJ file"},
                                          {"texture t file /dev/null\nmaterial m texture t\nmesh " + source_path("models/cube.obj") + " material m\n",
                                           "/dev/null: is a device, not an image file"},
@@ -1179,6 +1181,7 @@ TEST_CASE("a folder or a device named as a mesh, texture, .mtl or scene is refus
                                           "is a folder, not an image file"},
                                          {"mesh lib.obj\n", "lib.obj:1: mtllib: " + dir + "/dev.mtl: is a device, not a .mtl file"},
                                          {"mesh folder-lib.obj\n", "folder-lib.obj:4: mtllib: " + dir + "/sub: is a folder, not a .mtl file"}}) {
+        const std::string &line = line_expected.first, &expected = line_expected.second;  // (CAPTURE: as above)
         write_text(dir + "/scene.txt", "size 16 16\n" + line);
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(line);
@@ -1305,7 +1308,8 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
     write_hex("flat-cut.hdr", "233f52414449414e43450a464f524d41543d33322d6269745f726c655f726762650a0a2d592033202b5820340a");
     write_hex("row-cut.hdr", "233f52414449414e43450a464f524d41543d33322d6269745f726c655f726762650a0a2d592033202b5820380a020200088880884088208881");
     write_hex("os2-p4.bmp", "424d56000000000000004a0000000c0000000500030001000400000000975b252eb64ac5116f5c6c94f3c7b98a22de217d03b8d8284f334de68e727de9971444bcab9fe142fa06d9552bfffff000fffff000fffff000");
-    for (const auto& [name, message] : more) {
+    for (const auto& name_message : more) {
+        const std::string &name = name_message.first, &message = name_message.second;  // (CAPTURE: as above)
         CAPTURE(name);
         write_text(dir + "/scene.txt", "texture t file " + name + "\n" + good_scene);
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png", 20);

@@ -325,7 +325,10 @@ TEST_CASE("node registration's mip filters read a linear ramp where it is, on ev
     // detail, away from the ends (where clamp flattens the ramp). Box levels read on the node
     // lattice would be up to half a level's texel off: on level 1 of 16 texels, texel i
     // averages nodes 2i and 2i + 1, (2i + 1/2) / 15, where the node lattice puts i / 7.
-    for (auto [w, h] : {std::pair{16, 12}, std::pair{17, 9}, std::pair{33, 20}}) {
+    for (const std::pair<int, int>& size : {std::pair{16, 12}, std::pair{17, 9}, std::pair{33, 20}}) {
+        // (named, not a structured binding: doctest's CAPTURE is a lambda, which cannot capture
+        // one in C++17; clang refuses it)
+        const int w = size.first, h = size.second;  // (CAPTURE: not a structured binding)
         CAPTURE(w);
         std::vector<float> rgba;
         for (int j = 0; j < h; ++j)
@@ -617,7 +620,8 @@ TEST_CASE("every footprint filter takes a derivative vector with a NaN as no ext
         {{0.05, 0.01, nan, 0.0}, {0.05, 0.01, 0.0, 0.0}},   {{nan, 0.0, 0.02, 0.01}, {0.0, 0.0, 0.02, 0.01}},
         {{0.2, 0.1, 0.0, nan}, {0.2, 0.1, 0.0, 0.0}},       {{0.0, nan, 0.3, 0.05}, {0.0, 0.0, 0.3, 0.05}},
         {{0.004, 0.002, nan, nan}, {0.004, 0.002, 0.0, 0.0}}};
-    for (const auto& [with_nan, with_zero] : cases) {
+    for (const auto& nan_and_zero : cases) {
+        const UVDerivatives &with_nan = nan_and_zero.first, &with_zero = nan_and_zero.second;
         CAPTURE(with_zero.dudx);
         CAPTURE(with_zero.dudy);
         const double lambda = level_of_detail(with_nan, 64, 64);
@@ -679,7 +683,9 @@ TEST_CASE("nearest-mip level selection follows OpenGL: lambda <= 1/2 is level 0,
     Sampler s;
     // (lambda, level) worked out from the rule by hand.
     const std::pair<double, int> cases[] = {{-3.0, 0}, {0.5, 0}, {0.51, 1}, {1.5, 1}, {1.51, 2}, {2.0, 2}, {2.49, 2}, {3.5, 3}, {99.0, 4}};
-    for (const auto& [lambda, level] : cases) {
+    for (const auto& lambda_and_level : cases) {
+        const double lambda = lambda_and_level.first;  // (CAPTURE: not a structured binding)
+        const int level = lambda_and_level.second;
         CAPTURE(lambda);
         for (double u : {0.13, 0.61})
             CHECK(sample_mip_nearest(mip, s, u, 0.37, lambda, false).x == sample_nearest(mip.level(level), s, u, 0.37).x);
@@ -773,8 +779,9 @@ TEST_CASE("footprint_axes: the principal axes of sheared, huge and tiny footprin
     // scaling both vectors by k scales the axes by k, the same footprints scaled by 2^200 and
     // 2^-200 (where squaring without rescaling would overflow or underflow) give the same
     // axes times k.
-    for (const auto& [d1u, d1v, d2u, d2v] : {std::array<double, 4>{6.0, 1.0, -0.5, 1.5}, {6.0, 0.0, 6.0, 1.2}, {2.0, 2.0, 2.1, 1.9},
+    for (const std::array<double, 4>& f : {std::array<double, 4>{6.0, 1.0, -0.5, 1.5}, {6.0, 0.0, 6.0, 1.2}, {2.0, 2.0, 2.1, 1.9},
                                               {0.0, 3.0, 2.0, 0.0}, {1.0, 2.0, 2.0, 4.0} /* parallel */}) {
+        const double d1u = f[0], d1v = f[1], d2u = f[2], d2v = f[3];  // (CAPTURE: not a structured binding)
         const auto [a1, a2] = principal_axes_by_search(d1u, d1v, d2u, d2v);
         for (const int e : {0, 200, -200, 1000, -1000}) {
             CAPTURE(d1u);
@@ -899,8 +906,9 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                         CAPTURE(u);
                         CAPTURE(v);
                         CAPTURE(lambda);
-                        CAPTURE(int(wrap_u));
-                        CAPTURE(int(wrap_v));
+                        const int wrap_u_mode = int(wrap_u), wrap_v_mode = int(wrap_v);  // (CAPTURE: not a binding)
+                        CAPTURE(wrap_u_mode);
+                        CAPTURE(wrap_v_mode);
                         CAPTURE(int(registration));
                         CAPTURE(w);
                         near_edge = false;
@@ -972,7 +980,9 @@ TEST_CASE("the texels counted for anisotropic filtering are those its probes rea
     const std::pair<UVDerivatives, std::uint64_t> cases[] = {
         {{1.0 / n, 0.0, 0.0, 0.25 / n}, 16}, {{64.0 / n, 0.0, 0.0, 8.0 / n}, 64}, {{4096.0 / n, 0.0, 0.0, 2048.0 / n}, 8},
         {{0.0, 60.0 / n, 2.0 / n, 0.0}, 128}, {{0.0, 0.0, 0.0, 0.0}, 4}};
-    for (const auto& [d, expected] : cases) {
+    for (const auto& case_ : cases) {
+        const UVDerivatives& d = case_.first;  // (CAPTURE: not a structured binding)
+        const std::uint64_t expected = case_.second;
         CAPTURE(d.dudx * n);
         std::uint64_t texels = 0;
         lookup_footprint(t, 0.3, 0.6, d, texels);

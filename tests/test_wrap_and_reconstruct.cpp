@@ -415,7 +415,8 @@ TEST_CASE("bicubic matches its definition for every wrap pair, both registration
                             CAPTURE(int(wu));
                             CAPTURE(int(wv));
                             CAPTURE(int(r));
-                            CAPTURE(b);
+                            const float cubic_b = b;  // (CAPTURE's lambda cannot capture a structured binding)
+                            CAPTURE(cubic_b);
                             CAPTURE(clamp);
                             CAPTURE(far_u);
                             CAPTURE(v);
@@ -454,7 +455,8 @@ TEST_CASE("the short path is taken only for repeat on both axes and power-of-two
     // 8-bit images: a 4x4 (short path with repeat on both axes) and a 4x3 (height not a power
     // of two: general path). Nearest and bilinear with repeat on u and clamp on v against the
     // same image as floats (always the general path), beyond [0, 1] on both axes.
-    for (const auto& [w, h] : {std::pair<int, int>{4, 4}, {4, 3}, {8, 2}}) {
+    for (const std::pair<int, int>& size : {std::pair<int, int>{4, 4}, {4, 3}, {8, 2}}) {
+        const int w = size.first, h = size.second;  // (CAPTURE: not a structured binding)
         std::vector<std::uint8_t> bytes;
         std::vector<float> floats;
         for (int k = 0; k < w * h; ++k) {
