@@ -1,7 +1,9 @@
 // The same scene and options give the same bytes, whatever the thread count.
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -54,6 +56,31 @@ TEST_CASE("frames are byte-identical for 1, 2, 3, 5 and 16 threads") {
             }
         }
     }
+}
+
+TEST_CASE("frames are byte-identical with and without AVX2's lanes (TEXR_NO_AVX2=1)") {
+    // Two processes, as the choice is made once per process; every filter whose batched walk
+    // works out levels of detail, on the plane and the grazing square, 2 threads.
+    const std::string dir = testing::scratch_folder("avx2-lanes");
+    for (const char* file : {"models/bench/plane.scene", "models/bench/grazing.scene"})
+        for (const char* filter : {"trilinear", "bilinear_mip_nearest", "nearest_mip_nearest", "bilinear"}) {
+            CAPTURE(file);
+            CAPTURE(filter);
+            std::string scene = testing::read_file(testing::source_path(file));
+            const std::size_t at = scene.find("filter trilinear");
+            REQUIRE(at != std::string::npos);
+            scene.replace(at, std::strlen("filter trilinear"), std::string("filter ") + filter);
+            const std::size_t textures = scene.find("../textures/");
+            REQUIRE(textures != std::string::npos);
+            scene.replace(textures, std::strlen("../textures/"), testing::source_path("models/textures/"));
+            testing::write_text(dir + "/scene.txt", scene);
+            const std::string render = std::string(TEXR_BINARY) + " render " + dir + "/scene.txt --size 333x211 --threads 2 -o ";
+            REQUIRE(std::system((render + dir + "/default.ppm > /dev/null").c_str()) == 0);
+            REQUIRE(std::system(("TEXR_NO_AVX2=1 " + render + dir + "/sse2.ppm > /dev/null").c_str()) == 0);
+            const std::string a = testing::read_file(dir + "/default.ppm"), b = testing::read_file(dir + "/sse2.ppm");
+            CHECK(a.size() == 333u * 211u * 3u + std::strlen("P6\n333 211\n255\n"));
+            CHECK(a == b);
+        }
 }
 
 TEST_CASE("clearing rows writes the background and empty depth to exactly those rows") {

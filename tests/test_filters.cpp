@@ -11,6 +11,7 @@
 
 #include "texr/scene/scene.h"
 #include "texr/texture/ewa.h"
+#include "texr/texture/lod_avx2.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/mipmap.h"
@@ -470,6 +471,55 @@ TEST_CASE("trilinear_levels_lanes gives trilinear's level int(lambda) and fracti
     MESSAGE(checked << " levels of detail, " << inside << " between the ends");
 }
 #endif
+
+TEST_CASE("levels_of_detail_avx2 gives the scalar 1/q, (u, v) and level of detail, four pixels at a time, to the bit") {
+    if (!avx2_lanes_available()) {
+        MESSAGE("this CPU has no AVX2 (or TEXR_NO_AVX2 is set): the batched walk uses SSE2's lanes, tested above");
+        return;
+    }
+    const auto bits = [](double x) {
+        std::uint64_t b;
+        std::memcpy(&b, &x, sizeof b);
+        return b;
+    };
+    const double inf = std::numeric_limits<double>::infinity();
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-30.0, 30.0);
+    const auto value = [&] { return unit(rng) * std::pow(2.0, exponent(rng)); };
+    int differing = 0, pixels = 0, special = 0;
+    for (int round = 0; round < 20000; ++round) {
+        // A homography whose derivative rows are random, some of them 0 (point footprints) or
+        // huge (infinite ones); q of 0, infinity or NaN now and then.
+        TextureHomography h;
+        for (Plane* p : {&h.u_prime, &h.v_prime, &h.q}) {
+            p->dx = round % 7 == 0 ? 0.0 : value(), p->dy = round % 11 == 0 ? 0.0 : value(), p->c = value();
+            if (round % 13 == 0) p->dx *= 1e300;
+        }
+        const int n = round % 38, width = 1 << (round % 13), height = round % 3 == 0 ? 768 : 1 << (round % 10);
+        const bool stepped = round % 2 == 0;
+        double q[40], u[40], v[40], lambda[40];
+        for (int k = 0; k < n; ++k) {
+            q[k] = value(), u[k] = value(), v[k] = value();
+            if (round % 17 == 0 && k % 5 == 0) q[k] = k % 3 == 0 ? 0.0 : k % 3 == 1 ? inf : std::nan("");
+        }
+        double want_q[40], want_u[40], want_v[40];
+        for (int k = 0; k < n; ++k) want_q[k] = q[k], want_u[k] = u[k], want_v[k] = v[k];
+        const int done = levels_of_detail_avx2(h, width, height, stepped, n, q, u, v, lambda);
+        REQUIRE(done == n / 4 * 4);
+        for (int k = 0; k < done; ++k) {
+            const double inv_q = 1.0 / want_q[k];
+            if (stepped) want_u[k] *= inv_q, want_v[k] *= inv_q;
+            const double want_lambda = level_of_detail(uv_derivatives_from_inverse_q(h, want_u[k], want_v[k], inv_q), width, height);
+            differing += bits(q[k]) != bits(inv_q) || bits(u[k]) != bits(want_u[k]) || bits(v[k]) != bits(want_v[k]) ||
+                         bits(lambda[k]) != bits(want_lambda);
+            special += !(std::fabs(want_lambda) < 1e9);
+            ++pixels;
+        }
+    }
+    CHECK(differing == 0);
+    CHECK(special > 1000);  // point, infinite and NaN footprints were among them
+    MESSAGE(pixels << " pixels, " << special << " with a point, infinite or NaN footprint");
+}
 
 TEST_CASE("anisotropic and EWA filtering of a constant texture return the constant") {
     const MipMap mip(std::make_shared<Image>(constant_ldr(50, 70, 200)));

@@ -22,6 +22,7 @@
 #include "texr/render/needs.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
+#include "texr/texture/lod_avx2.h"
 
 namespace {
 
@@ -86,8 +87,10 @@ const char* render_help =
     "                      set up, spans, pixels shaded, texels fetched), what each\n"
     "                      material needs, each texture's memory (texels, mip levels\n"
     "                      if built, decoded copies if made; an image that textures\n"
-    "                      share counted at the first), the worker threads used, and\n"
-    "                      the time of each stage\n"
+    "                      share counted at the first), the worker threads used, the\n"
+    "                      SIMD lanes used (AVX2 where the CPU has it, unless the\n"
+    "                      environment sets TEXR_NO_AVX2=1; the same bytes either\n"
+    "                      way), and the time of each stage\n"
     "  -h, --help          show this help\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
@@ -250,6 +253,12 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
         std::printf("texture %-12s %s\n", t.name.c_str(), line.c_str());
     }
     std::printf("threads            %d  (worker threads: --threads, or one per core; at most one per 8 rows)\n", s.workers);
+#if defined(__SSE2__)
+    const char* const lanes = texr::avx2_lanes_available() ? "AVX2 and SSE2 (TEXR_NO_AVX2=1: SSE2 alone)" : "SSE2";
+#else
+    const char* const lanes = "none (scalar code)";
+#endif
+    std::printf("lanes              %s  (the same bytes either way)\n", lanes);
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
     std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);
     std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);

@@ -19,6 +19,7 @@
 #include "texr/render/needs.h"
 #include "texr/render/stats.h"
 #include "texr/texture/lookup.h"
+#include "texr/texture/lod_avx2.h"
 #include "texr/texture/minify.h"
 #include "texr/texture/reconstruct.h"
 
@@ -368,6 +369,7 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
     std::uint64_t shaded = 0, texels = 0;
 #if defined(__SSE2__)
     const bool colour_times_texel = d.material.lighting != Lighting::lambert && d.finite_shading;
+    const bool avx2 = avx2_lanes_available();
     const __m128 material_colour = _mm_setr_ps(d.material.color.x, d.material.color.y, d.material.color.z, 0.0f);
 #endif
     for (int first = span.x0; first < span.x1; first += batch) {
@@ -395,6 +397,8 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
         // level of detail's chains then overlap for twice as many pixels. Measured when it
         // came, 1 thread, alternated runs: the plane's trilinear frame 7.87-8.23 -> 7.13-7.24
         // ms, bilinear 2.89-2.95 -> 2.79-2.88 ms.
+        if constexpr (footprint)
+            if (avx2) k = levels_of_detail_avx2(s.h, int(t.base.width), int(t.base.height), stepped_uv, n, qs, us, vs, lambdas);
         if (divide)
             for (; k + 1 < n; k += 2) {
                 const __m128d inv_q = _mm_div_pd(_mm_set1_pd(1.0), _mm_loadu_pd(qs + k));
