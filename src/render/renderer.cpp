@@ -61,6 +61,7 @@ public:
         : scene_(scene), needs_(needs), options_(options), fb_(fb), stats_(stats),
           u_scratch_(std::size_t(fb.width)), v_scratch_(std::size_t(fb.width)) {
         for (const Material& m : scene.materials) finite_.push_back(shading_stays_finite(scene, m));
+        avx2_lanes_ = avx2_lanes_available();
     }
 
     void draw(const PreparedPiece& p, const RowSet& rows) {
@@ -70,7 +71,7 @@ public:
         const DrawContext d{scene_, material, material.texture >= 0 ? &scene_.textures[std::size_t(material.texture)] : nullptr,
                             std::max(1, options_.spp), options_.span_mode, options_.span_tolerance,
                             u_scratch_.data(), v_scratch_.data(), explain, p.object, p.material, p.triangle, p.clipped,
-                            finite_[std::size_t(p.material)] != 0};
+                            finite_[std::size_t(p.material)] != 0, avx2_lanes_};
         walk_table[needs_[std::size_t(p.material)]](d, p.s, rows, fb_, stats_);
     }
 
@@ -82,6 +83,7 @@ private:
     RenderStats& stats_;
     std::vector<double> u_scratch_, v_scratch_;
     std::vector<char> finite_;  // per material: shading_stays_finite
+    bool avx2_lanes_ = false;
 };
 
 // Waiting for other workers: spin for up to spin_microseconds, checking `done` (the others
