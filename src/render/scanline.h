@@ -278,6 +278,12 @@ template <TexturePath P>
 #endif
 
 #if defined(__SSE2__)
+// A colour in lanes (r, g, b, and a lane not written) stored as the frame's three floats.
+[[gnu::always_inline]] inline void write_colour(Color& out, __m128 c) {
+    _mm_storel_pi(reinterpret_cast<__m64*>(&out.x), c);
+    _mm_store_ss(&out.z, _mm_movehl_ps(c, c));
+}
+
 // Trilinear's pass 3 where the material only multiplies the texel by its colour: the batch's
 // levels and fractions first, two at a time (the plane's frame 5.80-5.86 -> 5.36-5.55 ms when
 // it came, 1 thread, alternated runs), then each pixel's lookup and colour. Compiled twice:
@@ -293,10 +299,7 @@ template <TexturePath P>
         __m128 texel;
         if (l0s[k] < 0 || !trilinear_decoded_lanes_at(t, us[k], vs[k], l0s[k], fractions[k], texel, texels))
             texel = short_path_lookup_lanes<TexturePath::trilinear>(t, us[k], vs[k], lambdas[k], texels);
-        const __m128 c = _mm_mul_ps(material_colour, texel);
-        Color& out = color_row[xs[k]];
-        _mm_storel_pi(reinterpret_cast<__m64*>(&out.x), c);
-        _mm_store_ss(&out.z, _mm_movehl_ps(c, c));
+        write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, texel));
     }
 }
 [[gnu::noinline]] void trilinear_colour_pass_sse2(ShortPathTexture& t, int n, const double* us, const double* vs,
@@ -430,11 +433,12 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
         }
         int k = 0;  // pass 2
 #if defined(__SSE2__)
-        // Two pixels at a time, one in each lane of SSE2's doubles, with the same operations
-        // as the loop below, so the same bits (level_of_detail_lanes). The divide's and the
-        // level of detail's chains then overlap for twice as many pixels. Measured when it
-        // came, 1 thread, alternated runs: the plane's trilinear frame 7.87-8.23 -> 7.13-7.24
-        // ms, bilinear 2.89-2.95 -> 2.79-2.88 ms.
+        // Four pixels at a time where the CPU has AVX2 (levels_of_detail_avx2, for the
+        // footprint filters), then two at a time, one in each lane of SSE2's doubles, with the
+        // same operations as the loop below, so the same bits (level_of_detail_lanes). The
+        // divide's and the level of detail's chains then overlap for more pixels. Measured
+        // when the SSE2 lanes came, 1 thread, alternated runs: the plane's trilinear frame
+        // 7.87-8.23 -> 7.13-7.24 ms, bilinear 2.89-2.95 -> 2.79-2.88 ms.
         if constexpr (footprint)
             if (avx2) k = levels_of_detail_avx2(s.h, int(t.base.width), int(t.base.height), stepped_uv, n, qs, us, vs, lambdas);
         if (divide)
@@ -474,19 +478,14 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
         if constexpr ((P == TexturePath::bilinear_decoded || P == TexturePath::trilinear) &&
                       (N & (need_normal | need_color | need_world_position)) == 0)
             if (colour_times_texel) {
-                const auto write = [&](int k, __m128 texel) {
-                    const __m128 c = _mm_mul_ps(material_colour, texel);
-                    Color& out = color_row[xs[k]];
-                    _mm_storel_pi(reinterpret_cast<__m64*>(&out.x), c);
-                    _mm_store_ss(&out.z, _mm_movehl_ps(c, c));
-                };
                 if constexpr (P == TexturePath::trilinear) {
                     if (avx2)
                         trilinear_colour_pass_avx2(t, n, us, vs, lambdas, xs, material_colour, color_row, texels);
                     else
                         trilinear_colour_pass_sse2(t, n, us, vs, lambdas, xs, material_colour, color_row, texels);
                 } else {
-                    for (int k = 0; k < n; ++k) write(k, short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels));
+                    for (int k = 0; k < n; ++k)
+                        write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels)));
                 }
                 shaded += std::uint64_t(n);
                 continue;
