@@ -509,7 +509,8 @@ TEST_CASE("levels_of_detail_avx2 gives the scalar 1/q, (u, v) and level of detai
         for (int k = 0; k < done; ++k) {
             const double inv_q = 1.0 / want_q[k];
             if (stepped) want_u[k] *= inv_q, want_v[k] *= inv_q;
-            const double want_lambda = level_of_detail(uv_derivatives_from_inverse_q(h, want_u[k], want_v[k], inv_q), width, height);
+            const UVDerivatives d = uv_derivatives_from_inverse_q(h, want_u[k], want_v[k], inv_q);
+            const double want_lambda = level_of_detail(d, width, height);
             differing += bits(q[k]) != bits(inv_q) || bits(u[k]) != bits(want_u[k]) || bits(v[k]) != bits(want_v[k]) ||
                          bits(lambda[k]) != bits(want_lambda);
             special += !(std::fabs(want_lambda) < 1e9);

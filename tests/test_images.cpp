@@ -324,8 +324,9 @@ TEST_CASE("the short paths' cells in SSE2 lanes, one level or two at once, are t
             reconstruct_detail::ShortPathCell ca, cb;
             reconstruct_detail::short_path_cells(a, b, u, v, ca, cb);
             const reconstruct_detail::ShortPathCell want_a = short_path_cell_scalar(a, u, v), want_b = short_path_cell_scalar(b, u, v);
-            const bool ok = same(ca, want_a) && same(cb, want_b) && same(reconstruct_detail::short_path_cell(a, u, v), want_a) &&
-                            same(reconstruct_detail::short_path_cell(b, u, v), want_b);
+            using reconstruct_detail::short_path_cell;
+            const bool ok = same(ca, want_a) && same(cb, want_b) && same(short_path_cell(a, u, v), want_a) &&
+                            same(short_path_cell(b, u, v), want_b);
             if (!ok) {
                 CAPTURE(u);
                 CAPTURE(v);

@@ -484,8 +484,10 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
                     else
                         trilinear_colour_pass_sse2(t, n, us, vs, lambdas, xs, material_colour, color_row, texels);
                 } else {
-                    for (int k = 0; k < n; ++k)
-                        write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels)));
+                    for (int k = 0; k < n; ++k) {
+                        const __m128 texel = short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels);
+                        write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, texel));
+                    }
                 }
                 shaded += std::uint64_t(n);
                 continue;

@@ -48,8 +48,10 @@ __attribute__((target("avx2"))) int levels_of_detail_avx2(const TextureHomograph
             uk = _mm256_mul_pd(uk, inv_q), vk = _mm256_mul_pd(vk, inv_q);
             _mm256_storeu_pd(u + k, uk), _mm256_storeu_pd(v + k, vk);
         }
-        const __m256d rho_x = squared(derivative(h.u_prime.dx, uk, h.q.dx, inv_q), derivative(h.v_prime.dx, vk, h.q.dx, inv_q), w, ht);
-        const __m256d rho_y = squared(derivative(h.u_prime.dy, uk, h.q.dy, inv_q), derivative(h.v_prime.dy, vk, h.q.dy, inv_q), w, ht);
+        const __m256d rho_x =
+            squared(derivative(h.u_prime.dx, uk, h.q.dx, inv_q), derivative(h.v_prime.dx, vk, h.q.dx, inv_q), w, ht);
+        const __m256d rho_y =
+            squared(derivative(h.u_prime.dy, uk, h.q.dy, inv_q), derivative(h.v_prime.dy, vk, h.q.dy, inv_q), w, ht);
         // (as level_of_detail_lanes: max(y, max(x, 0)) picks as std::max does, NaN included)
         const __m256d rho2 = _mm256_max_pd(rho_y, _mm256_max_pd(rho_x, _mm256_setzero_pd()));
         const __m256i bits = _mm256_castpd_si256(rho2);

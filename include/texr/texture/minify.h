@@ -168,9 +168,8 @@ namespace minify_detail {
 // take their pixels two at a time: its dependent chain of roughly 30 operations, half of it
 // the series, then overlaps twice as many pixels; products and sums must not be fused,
 // -ffp-contract=off in CMakeLists.txt, or the lanes and level_of_detail could differ in
-// their last bits). A pair with a lane that log2_positive
-// hands to std::log2 (zero, subnormal or infinite rho^2) is done lane by lane, as
-// level_of_detail does it.
+// their last bits). A pair with a lane that log2_positive hands to std::log2 (zero,
+// subnormal or infinite rho^2) is done lane by lane, as level_of_detail does it.
 [[gnu::always_inline]] inline __m128d level_of_detail_lanes(__m128d dudx, __m128d dvdx, __m128d dudy, __m128d dvdy, int width,
                                                            int height) {
     const __m128d w = _mm_set1_pd(double(width)), h = _mm_set1_pd(double(height));
