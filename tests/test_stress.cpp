@@ -24,17 +24,19 @@ Vertex vertex(double x, double y, double z, double u = 0, double v = 0, Color co
     return out;
 }
 
-std::shared_ptr<MipMap> noise_texture(int size, std::uint64_t seed) {
+std::shared_ptr<MipMap> noise_texture(int width, int height, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
-    std::vector<std::uint8_t> rgba(std::size_t(size) * std::size_t(size) * 4);
+    std::vector<std::uint8_t> rgba(std::size_t(width) * std::size_t(height) * 4);
     for (auto& b : rgba) b = std::uint8_t(rng() % 256);
-    return std::make_shared<MipMap>(std::make_shared<Image>(Image::ldr(size, size, ColorSpace::srgb, rgba)));
+    return std::make_shared<MipMap>(std::make_shared<Image>(Image::ldr(width, height, ColorSpace::srgb, rgba)));
 }
 
 void add_texture(Scene& scene, Filter filter, Wrap wrap = Wrap::repeat) {
     Texture t;
     t.name = "noise";
-    t.mipmap = noise_texture(64, 3);
+    // Not square, so that a path that confused the width with the height would draw another
+    // frame than the pixel-by-pixel walk does.
+    t.mipmap = noise_texture(128, 32, 3);
     t.image = std::shared_ptr<const Image>(t.mipmap, &t.mipmap->base());
     t.sampler.filter = filter;
     t.sampler.wrap_u = t.sampler.wrap_v = wrap;

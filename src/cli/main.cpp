@@ -88,9 +88,10 @@ const char* render_help =
     "                      material needs, each texture's memory (texels, mip levels\n"
     "                      if built, decoded copies if made; an image that textures\n"
     "                      share counted at the first), the worker threads used, the\n"
-    "                      SIMD lanes used (AVX2 where the CPU has it, unless the\n"
-    "                      environment sets TEXR_NO_AVX2=1; the same bytes either\n"
-    "                      way), and the time of each stage\n"
+    "                      SIMD lanes this CPU and build use (AVX2 where the CPU\n"
+    "                      has it, unless the environment sets TEXR_NO_AVX2 to\n"
+    "                      anything but empty or 0; the same bytes either way),\n"
+    "                      and the time of each stage\n"
     "  -h, --help          show this help\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";

@@ -7,9 +7,10 @@
 
 namespace texr {
 
-// Whether levels_of_detail_avx2 is used: the CPU has AVX2 (and the build is for x86-64 with
-// g++ or clang), and the environment does not set TEXR_NO_AVX2 to anything but "" or "0"
-// (which leaves SSE2's lanes, for the same bytes). Decided once per process.
+// Whether the AVX2 lanes may run: the CPU has AVX2 (and the build is for x86-64 with g++ or
+// clang), and the environment does not set TEXR_NO_AVX2 to anything but "" or "0" (which
+// leaves SSE2's lanes, for the same bytes). Decided once per process. (The span walk uses
+// them where it has SSE2 too: not in a build without it.)
 bool avx2_lanes_available();
 
 // For pixels k = 0, 4, 8, ... while k + 3 < n: inv_q = 1 / q[k], (u, v) times inv_q when
