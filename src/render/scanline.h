@@ -260,24 +260,6 @@ template <TexturePath P>
 }
 
 #if defined(__SSE2__)
-// short_path_lookup in SSE lanes (r, g, b, a): the same values, without leaving the lanes
-// where the lookup blends decoded texels (bilinear from the copy, trilinear).
-template <TexturePath P>
-[[gnu::always_inline]] inline __m128 short_path_lookup_lanes(ShortPathTexture& t, double u, double v, double lambda,
-                                                            std::uint64_t& texels) {
-    if constexpr (P == TexturePath::bilinear_decoded) {
-        texels += 4;
-        return bilinear_decoded_lanes(t.base, u, v);
-    } else if constexpr (P == TexturePath::trilinear) {
-        __m128 lanes;
-        if (trilinear_decoded_lanes(t, u, v, lambda, lanes, texels)) return lanes;
-    }
-    const Color4 c = short_path_lookup<P>(t, u, v, lambda, texels);
-    return _mm_setr_ps(c.x, c.y, c.z, c.w);
-}
-#endif
-
-#if defined(__SSE2__)
 // A colour in lanes (r, g, b, and a lane not written) stored as the frame's three floats.
 [[gnu::always_inline]] inline void write_colour(Color& out, __m128 c) {
     _mm_storel_pi(reinterpret_cast<__m64*>(&out.x), c);
@@ -297,8 +279,11 @@ template <TexturePath P>
     trilinear_levels_lanes(lambdas, n, t.last, l0s, fractions);
     for (int k = 0; k < n; ++k) {
         __m128 texel;
-        if (l0s[k] < 0 || !trilinear_decoded_lanes_at(t, us[k], vs[k], l0s[k], fractions[k], texel, texels))
-            texel = short_path_lookup_lanes<TexturePath::trilinear>(t, us[k], vs[k], lambdas[k], texels);
+        if (l0s[k] < 0 || !trilinear_decoded_lanes_at(t, us[k], vs[k], l0s[k], fractions[k], texel, texels)) {
+            // (either end of the pyramid, or a level without a copy: short_path_lookup's way)
+            const Color4 c = short_path_lookup<TexturePath::trilinear>(t, us[k], vs[k], lambdas[k], texels);
+            texel = _mm_setr_ps(c.x, c.y, c.z, c.w);
+        }
         write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, texel));
     }
 }
@@ -484,8 +469,9 @@ void shade_span_batched(const DrawContext& d, const TriangleSetup& s, int y, Spa
                     else
                         trilinear_colour_pass_sse2(t, n, us, vs, lambdas, xs, material_colour, color_row, texels);
                 } else {
-                    for (int k = 0; k < n; ++k) {
-                        const __m128 texel = short_path_lookup_lanes<P>(t, us[k], vs[k], 0.0, texels);
+                    for (int k = 0; k < n; ++k) {  // (bilinear from the copy)
+                        texels += 4;
+                        const __m128 texel = bilinear_decoded_lanes(t.base, us[k], vs[k]);
                         write_colour(color_row[xs[k]], _mm_mul_ps(material_colour, texel));
                     }
                 }
