@@ -979,6 +979,61 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
     MESSAGE("EWA cases compared within 1e-5: ", cases_exact, ", within 2e-3: ", cases_near_edge);
 }
 
+TEST_CASE("EWA reads the same values from an 8-bit image's bytes as from its decoded copy") {
+    // A 2048x2048 image has no decoded copy (more than Image::max_decoded_texels), a 1024x1024
+    // one has: EWA reads the first level's texels from the bytes and the decode table, the
+    // second's from the copy. The large image is the small one four times over (2 x 2), so
+    // each of its mip levels is the small one's level four times over, and at (u/2, v/2),
+    // with derivatives halved, it reads the same texels at the same lattice positions (the
+    // halvings are exact) with the same weights: the two results must be the same bits.
+    std::mt19937_64 rng(41);
+    const int n = 1024;
+    std::vector<std::uint8_t> small_bytes(std::size_t(n) * n * 4), large_bytes(std::size_t(4) * n * n * 4);
+    for (auto& byte : small_bytes) byte = std::uint8_t(rng() % 256);
+    for (int j = 0; j < 2 * n; ++j)
+        for (int i = 0; i < 2 * n; ++i)
+            std::memcpy(&large_bytes[(std::size_t(j) * 2 * n + std::size_t(i)) * 4],
+                        &small_bytes[(std::size_t(j % n) * n + std::size_t(i % n)) * 4], 4);
+    const auto small_image = std::make_shared<Image>(Image::ldr(n, n, ColorSpace::srgb, small_bytes));
+    const auto large_image = std::make_shared<Image>(Image::ldr(2 * n, 2 * n, ColorSpace::srgb, large_bytes));
+    REQUIRE(small_image->decoded_texels() != nullptr);
+    REQUIRE(large_image->decoded_texels() == nullptr);
+    const MipMap small(small_image), large(large_image);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int compared = 0, from_base = 0;
+    for (float max_anisotropy : {4.0f, 16.0f, 64.0f}) {
+        Sampler s;
+        s.max_anisotropy = max_anisotropy;
+        for (int k = 0; k < 600; ++k) {
+            // Footprints from a third of a texel to 2^9 texels long, in any direction and shape.
+            const double length = std::exp2(unit(rng) * 10.6 - 1.6), angle = unit(rng) * 6.283185307179586;
+            const double ratio = std::exp2(-unit(rng) * 8.0), turn = (unit(rng) - 0.5) * 3.0;
+            const double d1u = length * std::cos(angle) / n, d1v = length * std::sin(angle) / n;
+            const double d2u = ratio * length * std::cos(angle + turn) / n, d2v = ratio * length * std::sin(angle + turn) / n;
+            const double u = unit(rng) * 3.0 - 1.0, v = unit(rng) * 3.0 - 1.0;
+            int small_texels = 0, large_texels = 0;
+            const Color4 expected = sample_ewa(small, s, u, v, {d1u, d1v, d2u, d2v}, small_texels);
+            const Color4 got = sample_ewa(large, s, u / 2.0, v / 2.0, {d1u / 2.0, d1v / 2.0, d2u / 2.0, d2v / 2.0}, large_texels);
+            CAPTURE(u);
+            CAPTURE(v);
+            CAPTURE(length);
+            CAPTURE(ratio);
+            CHECK(std::memcmp(&got, &expected, sizeof got) == 0);
+            CHECK(large_texels == small_texels);
+            ++compared;
+            // The base level is read when the ellipse's minor semi-axis (stretched to at least
+            // major / max anisotropy) is under two texels: the singular values of [d1 d2].
+            const double p = (d1u * d1u + d2u * d2u) * n * n, q = (d1v * d1v + d2v * d2v) * n * n;
+            const double r = (d1u * d1v + d2u * d2v) * n * n;
+            const double root = std::sqrt((p - q) * (p - q) / 4.0 + r * r);
+            const double major = std::sqrt((p + q) / 2.0 + root), minor = std::sqrt(std::max((p + q) / 2.0 - root, 0.0));
+            from_base += std::max(minor, major / max_anisotropy) < 2.0 ? 1 : 0;
+        }
+    }
+    CHECK(from_base > compared / 10);  // enough of them read the large image's bytes
+    MESSAGE("EWA lookups compared bit for bit: ", compared, ", reading the base level: ", from_base);
+}
+
 TEST_CASE("node registration measures footprints in spacings between nodes: one per pixel is level 0") {
     // A 3x3 float image, 1 at the centre node and 0 elsewhere; node registration puts the
     // nodes at u = 0, 1/2, 1, so derivatives of 1/2 per pixel are one node spacing: level of

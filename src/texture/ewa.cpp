@@ -4,7 +4,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "texr/texture/minify.h"
 #include "texr/texture/reconstruct.h"
@@ -34,6 +41,27 @@ const std::array<float, weight_table_size>& gaussian_weights() {
         return t;
     }();
     return table;
+}
+
+// The per-thread memory of ewa_at_level: the box's wrapped columns and rows, their places
+// (below), and the list of the cells inside the ellipse (each one's Q and place). It grows to
+// the largest box seen and is kept (a box is at most a few hundred texels a side,
+// max_anisotropy <= 64: a few hundred KiB).
+struct EwaScratch {
+    std::vector<int> columns, rows;
+    std::vector<std::int64_t> column_places, row_places;
+    std::vector<double> q;
+    std::vector<std::int64_t> places;
+    void reserve(int width, int height) {
+        const std::size_t box = std::size_t(width) * std::size_t(height);
+        if (columns.size() < std::size_t(width)) columns.resize(std::size_t(width)), column_places.resize(std::size_t(width));
+        if (rows.size() < std::size_t(height)) rows.resize(std::size_t(height)), row_places.resize(std::size_t(height));
+        if (q.size() < box) q.resize(box), places.resize(box);
+    }
+};
+EwaScratch& ewa_scratch() {
+    thread_local EwaScratch scratch;
+    return scratch;
 }
 
 // The weighted average over the ellipse at one level. (u, v) in [0, 1] texture space;
@@ -84,59 +112,124 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     const int t0 = int(-floor_to_int64(half_t - ct)), t1 = int(floor_to_int64(ct + half_t));
 
     const auto& weights = gaussian_weights();
+    const float* const weight_of = weights.data();
+    // Wrap the box's columns and rows once each (the usual box is a few dozen texels wide
+    // and about as many high). The ellipse holds the unit disc (the +1 above), so its box is
+    // at least 2 texels a side; max() only keeps an ellipse beyond measure from sizing the
+    // scratch memory by a negative number.
+    const int width = std::max(s1 - s0 + 1, 0), height = std::max(t1 - t0 + 1, 0);
+    EwaScratch& scratch = ewa_scratch();
+    scratch.reserve(width, height);
+    int* const columns = scratch.columns.data();
+    int* const rows = scratch.rows.data();
+    for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
+    for (int k = 0; k < height; ++k) rows[k] = wrap_index(s.wrap_v, t0 + k, h, node);
+    // Each cell's place, row_place[r] + column_place[k]: on an 8-bit image with no border the
+    // texel's byte offset (its texels are read through row addresses), else (r << 32) + k.
+    const bool bordered = s.wrap_u == Wrap::border || s.wrap_v == Wrap::border;
+    const bool by_offset = !image.is_hdr() && !bordered;
+    const LdrLevel level = by_offset ? image.ldr_level() : LdrLevel{};
+    std::int64_t* const column_place = scratch.column_places.data();
+    std::int64_t* const row_place = scratch.row_places.data();
+    for (int k = 0; k < width; ++k) column_place[k] = by_offset ? std::int64_t(columns[k]) * 4 : k;
+    for (int r = 0; r < height; ++r)
+        row_place[r] = by_offset ? std::int64_t(rows[r]) * std::int64_t(level.row_bytes) : std::int64_t(r) << 32;
+
+    // First the cells inside the ellipse (Q < 1), listed in the box's order, rows from t0,
+    // each from s0: every cell is written to the list, and the list grows only by those
+    // inside, so there is no branch per cell (a branch whose outcome changes twice in every
+    // row of every ellipse is mispredicted often). Q steps along a row in two chains, even
+    // and odd cells, each two cells at a time (Q(s + 2) - Q(s) = a (4 s + 4) + 2 b t, which
+    // grows by 8 a per step), so that no cell's Q waits for the one before it; the two chains
+    // share a pair of SSE2 lanes.
+    double* const q_list = scratch.q.data();
+    std::int64_t* const place_list = scratch.places.data();
+    std::size_t n = 0;
+    for (int r = 0; r < height; ++r) {
+        const double tt = (t0 + r) - ct;
+        const std::int64_t row = row_place[r];
+        const double ss = s0 - cs;
+        const double r2_even = a * ss * ss + b * ss * tt + c * tt * tt;
+        const double r2_odd = a * (ss + 1.0) * (ss + 1.0) + b * (ss + 1.0) * tt + c * tt * tt;
+        const double step_even = a * (4.0 * ss + 4.0) + 2.0 * b * tt, step_odd = step_even + 4.0 * a;
+        int k = 0;
+#if defined(__SSE2__)
+        __m128d r2 = _mm_set_pd(r2_odd, r2_even), step = _mm_set_pd(step_odd, step_even);
+        const __m128d step_step = _mm_set1_pd(8.0 * a), one = _mm_set1_pd(1.0);
+        for (; k + 1 < width; k += 2) {
+            const int inside_mask = _mm_movemask_pd(_mm_cmplt_pd(r2, one));  // (NaN: outside)
+            _mm_storel_pd(q_list + n, r2);
+            place_list[n] = row + column_place[k];
+            n += std::size_t(inside_mask & 1);
+            _mm_storeh_pd(q_list + n, r2);
+            place_list[n] = row + column_place[k + 1];
+            n += std::size_t(inside_mask >> 1);
+            r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
+        }
+        const double r2_last = _mm_cvtsd_f64(r2);
+#else
+        double r2_even_k = r2_even, r2_odd_k = r2_odd, step_even_k = step_even, step_odd_k = step_odd;
+        const double step_step = 8.0 * a;
+        for (; k + 1 < width; k += 2) {
+            q_list[n] = r2_even_k, place_list[n] = row + column_place[k];
+            n += std::size_t(r2_even_k < 1.0);
+            q_list[n] = r2_odd_k, place_list[n] = row + column_place[k + 1];
+            n += std::size_t(r2_odd_k < 1.0);
+            r2_even_k += step_even_k, step_even_k += step_step;
+            r2_odd_k += step_odd_k, step_odd_k += step_step;
+        }
+        const double r2_last = r2_even_k;
+#endif
+        if (k < width) {
+            q_list[n] = r2_last, place_list[n] = row + column_place[k];
+            n += std::size_t(r2_last < 1.0);
+        }
+    }
+
+    // Then their Gaussian-weighted sum, in the same order.
     Color4 sum(0.0f);
     float weight_sum = 0.0f;
-    // Wrap the box's columns once (the usual box is a few dozen texels wide); rows are
-    // wrapped once each. Q is stepped along a row (below).
-    // `visit` walks the ellipse; row_at(j) and texel_at(row, column) read the texels, so an
-    // 8-bit image with no border can be read through row addresses.
-    constexpr int stack_columns = 128;
-    int stack_column_store[stack_columns];
-    std::vector<int> heap_column_store;  // a footprint wider than the stack store (a high max anisotropy)
-    const int width = s1 - s0 + 1;
-    if (width > stack_columns) heap_column_store.resize(std::size_t(width));
-    int* const columns = width > stack_columns ? heap_column_store.data() : stack_column_store;
-    for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
-    const float* const weight_of = weights.data();
-    int inside = 0;
-    const auto visit = [&](auto row_at, auto texel_at) {
-        for (int it = t0; it <= t1; ++it) {
-            const double tt = it - ct;
-            const auto row = row_at(wrap_index(s.wrap_v, it, h, node));
-            const auto cell = [&](double r2, int k) {
-                if (!(r2 < 1.0)) return;  // outside the ellipse (or NaN)
-                // Q >= 0 (the form is positive definite); stepping may round it below 0.
-                const float weight = weight_of[int(std::max(r2, 0.0) * (weight_table_size - 1))];
-                sum += weight * texel_at(row, columns[k]);
-                weight_sum += weight;
-                ++inside;
-            };
-            // Q steps along the row in two chains, even and odd cells, each two cells at a time
-            // (Q(s + 2) - Q(s) = a (4 s + 4) + 2 b t, which grows by 8 a per step), so that no
-            // cell's Q waits for the one before it. The cells are still added in order.
-            const double ss = s0 - cs;
-            double r2_even = a * ss * ss + b * ss * tt + c * tt * tt;
-            double r2_odd = a * (ss + 1.0) * (ss + 1.0) + b * (ss + 1.0) * tt + c * tt * tt;
-            double step_even = a * (4.0 * ss + 4.0) + 2.0 * b * tt, step_odd = step_even + 4.0 * a;
-            const double step_step = 8.0 * a;
-            int k = 0;
-            for (; k + 1 < width; k += 2) {
-                cell(r2_even, k), cell(r2_odd, k + 1);
-                r2_even += step_even, step_even += step_step;
-                r2_odd += step_odd, step_odd += step_step;
-            }
-            if (k < width) cell(r2_even, k);
+    // Q >= 0 (the form is positive definite); stepping may round it below 0.
+    const auto weight_at = [&](std::size_t i) { return weight_of[int(std::max(q_list[i], 0.0) * (weight_table_size - 1))]; };
+    // An 8-bit image's decoded copy, where it has one (Image::decoded_texels), holds the
+    // values decode_ldr_texel reads from the bytes, 4 floats a texel at 4 times the byte
+    // offset: one load a texel instead of four byte loads and three table loads.
+    const float* decoded = by_offset ? image.ldr_level(true).decoded : nullptr;
+    if (decoded) {
+#if defined(__SSE__)
+        // (each lane the same product and sum as Color4's)
+        __m128 lanes = _mm_setzero_ps();
+        for (std::size_t i = 0; i < n; ++i) {
+            const float weight = weight_at(i);
+            lanes = _mm_add_ps(lanes, _mm_mul_ps(_mm_set1_ps(weight), _mm_loadu_ps(decoded + place_list[i])));
+            weight_sum += weight;
         }
-    };
-    const bool bordered = s.wrap_u == Wrap::border || s.wrap_v == Wrap::border;
-    if (!image.is_hdr() && !bordered) {
-        const LdrLevel level = image.ldr_level();
-        visit([&](int j) { return level.texels + std::size_t(j) * level.row_bytes; },
-              [&](const std::uint8_t* row, int i) { return decode_ldr_texel(row + std::size_t(i) * 4, level.decode); });
+        alignas(16) float out[4];
+        _mm_store_ps(out, lanes);
+        sum = Color4(out[0], out[1], out[2], out[3]);
+#else
+        for (std::size_t i = 0; i < n; ++i) {
+            const float weight = weight_at(i);
+            const float* t = decoded + place_list[i];
+            sum += weight * Color4(t[0], t[1], t[2], t[3]);
+            weight_sum += weight;
+        }
+#endif
+    } else if (by_offset) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const float weight = weight_at(i);
+            sum += weight * decode_ldr_texel(level.texels + place_list[i], level.decode);
+            weight_sum += weight;
+        }
     } else {
-        visit([](int j) { return j; },
-              [&](int j, int i) { return (i < 0 || j < 0) ? s.border : image.texel(i, j); });
+        for (std::size_t i = 0; i < n; ++i) {
+            const float weight = weight_at(i);
+            const int i_col = columns[place_list[i] & 0xffffffff], j = rows[place_list[i] >> 32];
+            sum += weight * ((i_col < 0 || j < 0) ? s.border : image.texel(i_col, j));
+            weight_sum += weight;
+        }
     }
+    const int inside = int(n);
     texels += inside;
     if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
     return sum / weight_sum;
