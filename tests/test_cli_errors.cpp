@@ -452,12 +452,14 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
         r = run_texr("render " + scene + " " + command);
         CHECK(r.output == "texr: " + command + " is out of range (" + (command[2] == 't' ? "1..256" : "1..64") + ")\n");
     }
-    // texr bench takes the same ranges as texr render.
-    for (const char* option : {"--threads 300", "--spp 65", "--threads 0"}) {
+    // texr bench takes the same ranges as texr render, but for --spp 1 (which renders with
+    // the textures' own filters: no ground truth to score them against).
+    for (const char* option : {"--threads 300", "--spp 65", "--threads 0", "--spp 1"}) {
         r = run_texr(std::string("bench filters --out ") + dir + "/bench " + option);
         CAPTURE(option);
         CHECK(r.exit_code == 2);
-        CHECK(r.output.find("expects a whole number from 1 to") != std::string::npos);
+        CHECK(r.output.find(option[2] == 's' ? "expects a whole number from 2 to 64" : "expects a whole number from 1 to 256") !=
+              std::string::npos);
     }
     r = run_texr("frobnicate");
     CHECK(r.exit_code == 2);
@@ -1828,4 +1830,79 @@ TEST_CASE("texr explain measures a node-registered texture's footprint in spacin
     CHECK(out.find("bilinear on level 2 (2x2) and level 3 (1x1), blended 0.0000 of the way") != std::string::npos);
     out = explain("anisotropic", 16.0);
     CHECK(out.find("major 4, minor 4 texels") != std::string::npos);
+}
+
+TEST_CASE("texr render refuses to write its frame over a file the scene reads, by any name, and changes nothing") {
+    const std::string dir = scratch_folder("output-is-input");
+    // A 2x2 PPM texture, a .mtl's map_Kd image, and the scene file itself, each named as the
+    // output: directly, through a symbolic link, and through another path to it.
+    const std::string ppm = std::string("P6\n2 2\n255\n") + std::string(12, '\x80');
+    write_text(dir + "/t.ppm", ppm);
+    write_text(dir + "/m.ppm", ppm);
+    write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3\n");
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd m.ppm\n");
+    const std::string scene = "size 8 8\ncamera eye 0 0 3\ntexture t file t.ppm\nmaterial m texture t\n"
+                              "triangle material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\nmesh t.obj\n";
+    write_text(dir + "/scene.ppm", scene);  // (a scene file may have any name)
+    std::system(("ln -s t.ppm '" + dir + "/link.ppm'").c_str());
+    struct Case {
+        std::string output, read;
+    };
+    const Case cases[] = {{dir + "/t.ppm", dir + "/t.ppm"}, {dir + "/link.ppm", dir + "/t.ppm"},
+                          {dir + "/../" + dir + "/t.ppm", dir + "/t.ppm"}, {dir + "/m.ppm", dir + "/m.ppm"},
+                          {dir + "/scene.ppm", dir + "/scene.ppm"}};
+    for (const Case& c : cases) {
+        const RunResult r = run_texr("render " + dir + "/scene.ppm -o " + c.output);
+        CAPTURE(c.output);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output == "texr: " + c.output + ": cannot write output file: the scene reads it (" + c.read + "); give another -o\n");
+    }
+    CHECK(read_file(dir + "/t.ppm") == ppm);
+    CHECK(read_file(dir + "/m.ppm") == ppm);
+    CHECK(read_file(dir + "/scene.ppm") == scene);
+    // Another file, new or old, is written as always.
+    write_text(dir + "/old.ppm", ppm);
+    CHECK(run_texr("render " + dir + "/scene.ppm -o " + dir + "/old.ppm").exit_code == 0);
+    CHECK(read_file(dir + "/old.ppm") != ppm);
+    CHECK(run_texr("render " + dir + "/scene.ppm -o " + dir + "/new.ppm").exit_code == 0);
+}
+
+TEST_CASE("options take their value after '=' too, and lost standard output is an error") {
+    const std::string dir = scratch_folder("option-equals");
+    write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 3\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\n");
+    RunResult r = run_texr("render " + dir + "/scene.txt --output=" + dir + "/a.png --threads=2 --size=4x2");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("wrote " + dir + "/a.png (4x2)") != std::string::npos);
+    r = run_texr("render " + dir + "/scene.txt --threads=0");  // the value is checked as ever
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--threads") != std::string::npos);
+    r = run_texr("explain " + dir + "/scene.txt 4 4 --span=exact");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("The span walk (--span exact) divides") != std::string::npos);
+    if (!file_exists("/dev/full")) {
+        MESSAGE("no /dev/full here: the lost-output check is skipped");
+        return;
+    }
+    // Standard output to a full device: the explanation is lost, and texr says so and fails.
+    // (Standard error goes to the pipe first, then standard output to /dev/full.)
+    for (const std::string& command : {"explain " + dir + "/scene.txt 4 4", std::string("--help")}) {
+        r = run_texr(command + " 2>&1 >/dev/full; echo exit $?");
+        CAPTURE(command);
+        CHECK(r.output == "texr: could not write to standard output: No space left on device\nexit 1\n");
+    }
+}
+
+TEST_CASE("a zero camera up vector and a number with a no-break space get messages that say so") {
+    const std::string dir = scratch_folder("up-and-nbsp");
+    write_text(dir + "/up.txt", "size 8 8\ncamera eye 0 0 3 up 0 0 0\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\n");
+    RunResult r = run_texr("render " + dir + "/up.txt -o " + dir + "/a.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/up.txt:2: camera up must not be the zero vector\n");
+    write_text(dir + "/nbsp.txt", "size 8\xC2\xA0 8\ncamera eye 0 0 3\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\n");
+    r = run_texr("render " + dir + "/nbsp.txt -o " + dir + "/a.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/nbsp.txt:1: expected the width, found '8\\xC2\\xA0'\n");
+    CHECK_FALSE(file_exists(dir + "/a.png"));
 }

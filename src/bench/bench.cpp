@@ -34,7 +34,7 @@ const char* bench_help =
     "options:\n"
     "  --size WxH      frame size (default 1024x768)\n"
     "  --repeat N      timed frames per measurement; the median is reported (default 7)\n"
-    "  --spp N         ground truth: N x N samples per pixel, 1..64 (default 16)\n"
+    "  --spp N         ground truth: N x N samples per pixel, 2..64 (default 16)\n"
     "  --threads N     worker threads for the timed frames, 1..256 (default 1; scale:\n"
     "                  all cores; threads always measures 1, 2 and every core)\n"
     "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
@@ -49,8 +49,9 @@ const char* bench_help =
 
 namespace {
 
-// A whole number in [1, max] (the same limits as texr render's: --threads 1..256, --spp 1..64).
-int parse_int(const std::string& text, const std::string& option, int max = 1000000000) {
+// A whole number in [min, max] (the same limits as texr render's: --threads 1..256; --spp
+// 2..64, as texr render --spp 1 is the textures' own filters, no ground truth).
+int parse_int(const std::string& text, const std::string& option, int max = 1000000000, int min = 1) {
     std::size_t used = 0;
     int v = 0;
     try {
@@ -58,8 +59,9 @@ int parse_int(const std::string& text, const std::string& option, int max = 1000
     } catch (...) {
         used = 0;
     }
-    if (used != text.size() || v < 1 || v > max)
-        throw std::invalid_argument(option + " expects a whole number from 1 to " + std::to_string(max) + ", got '" + text + "'");
+    if (used != text.size() || v < min || v > max)
+        throw std::invalid_argument(option + " expects a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
+                                    ", got '" + text + "'");
     return v;
 }
 
@@ -88,7 +90,7 @@ int run_bench(const std::vector<std::string>& args) {
             size_given = true;
         } else if (a == "--repeat") o.repeat = parse_int(value(), "--repeat"), repeat_given = true;
         else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
-        else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64), spp_given = true;
+        else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64, 2), spp_given = true;
         else if (a == "--models") o.models = value();
         else if (a == "--out") o.out = value();
         else if (a == "--quick") o.quick = true;

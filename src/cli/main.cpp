@@ -62,9 +62,10 @@ const char* render_help =
     "Renders the scene file SCENE, writes one frame, and prints where it wrote it and\n"
     "the frame time.\n"
     "\n"
-    "options (each at most once):\n"
+    "options (each at most once; --name=value works too):\n"
     "  -o, --output PATH   output file; .png or .ppm (binary P6) by its extension\n"
-    "                      (default: out/<scene name>.png)\n"
+    "                      (default: out/<scene name>.png); never a file the scene\n"
+    "                      reads\n"
     "  --size WxH          frame size in pixels, overriding the scene's 'size' line\n"
     "                      (each side 1..16384, at most 67108864 pixels)\n"
     "  --repeat N          render the frame N times and print the median frame time\n"
@@ -91,10 +92,13 @@ const char* render_help =
     "                      SIMD lanes this CPU and build use (AVX2 where the CPU\n"
     "                      has it, unless the environment sets TEXR_NO_AVX2 to\n"
     "                      anything but empty or 0; the same bytes either way),\n"
-    "                      and the time of each stage\n"
+    "                      and the time of each stage (with --repeat, the mean over\n"
+    "                      all frames, the first, which builds mip levels and\n"
+    "                      decoded copies, included)\n"
     "  -h, --help          show this help\n"
     "\n"
-    "exit status: 0 success, 1 bad scene or unwritable output, 2 bad command line\n";
+    "exit status: 0 success, 1 bad scene or unwritable output (the frame, or standard\n"
+    "output), 2 bad command line\n";
 
 struct UsageError {
     std::string message;
@@ -261,6 +265,9 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
 #endif
     std::printf("lanes              %s  (the same bytes either way)\n", lanes);
     std::printf("time load          %.3f ms  (scene, textures, meshes)\n", load_ms);
+    // (the mean over the frames: with --repeat, the first frame's building of mip levels and
+    // copies is part of it, as the median frame time printed above is not)
+    if (frames > 1) std::printf("stage times        the mean over %d frames, the first included\n", frames);
     std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);
     std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);
     std::printf("time raster        %.3f ms  (clip, setup, spans, shading)\n", 1000.0 * s.seconds_raster / frames);
@@ -285,6 +292,7 @@ int run_render(const std::vector<std::string>& argv) {
     const auto load_start = Clock::now();
     const texr::Scene scene = texr::load_scene(args.scene);
     const double load_ms = milliseconds(Clock::now() - load_start);
+    texr::check_not_an_input(args.output, scene.files);
 
     texr::RenderOptions options;
     options.width = args.width;
@@ -366,10 +374,22 @@ int run_explain(const std::vector<std::string>& argv) {
     return 0;
 }
 
-}  // namespace
+// `--name=value` as the two arguments `--name value` (each option takes its value either way).
+std::vector<std::string> split_option_values(const std::vector<std::string>& args) {
+    std::vector<std::string> out;
+    for (const std::string& a : args) {
+        const std::size_t equals = a.find('=');
+        if (a.rfind("--", 0) == 0 && equals != std::string::npos && equals > 2) {
+            out.push_back(a.substr(0, equals));
+            out.push_back(a.substr(equals + 1));
+        } else {
+            out.push_back(a);
+        }
+    }
+    return out;
+}
 
-int main(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
+int run(const std::vector<std::string>& args) {
     try {
         if (args.empty()) {
             std::fputs(main_help, stderr);
@@ -413,4 +433,18 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "texr: internal error: %s\n", e.what());
         return 1;
     }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int code = run(split_option_values(std::vector<std::string>(argv + 1, argv + argc)));
+    // What texr printed (an explanation, a table, help) is lost if standard output could not
+    // take it (a full disk, a closed pipe): say so, and fail.
+    errno = 0;
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+        std::fprintf(stderr, "texr: could not write to standard output%s%s\n", errno ? ": " : "", errno ? std::strerror(errno) : "");
+        return code == 0 ? 1 : code;
+    }
+    return code;
 }

@@ -106,6 +106,14 @@ void check_output_path(const std::string& requested) {
         throw InputError(requested, 0, "cannot write output file: cannot create files in folder '" + shown_folder + "' (" + std::strerror(errno) + ")");
 }
 
+void check_not_an_input(const std::string& requested, const std::vector<std::string>& inputs) {
+    struct stat output, input;
+    if (::stat(written_path(requested).c_str(), &output) != 0) return;  // (nothing there to replace)
+    for (const std::string& file : inputs)
+        if (::stat(file.c_str(), &input) == 0 && input.st_dev == output.st_dev && input.st_ino == output.st_ino)
+            throw InputError(requested, 0, "cannot write output file: the scene reads it (" + file + "); give another -o");
+}
+
 void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes) {
     const std::string path = written_path(requested);
     // A short hidden name in the same folder (so that rename replaces the file in one step),

@@ -51,6 +51,7 @@ struct ObjLines {
     std::vector<std::string> names{std::string()};  // names[0]: before any usemtl
     std::vector<std::uint32_t> per_triangle;
     bool clean = false;
+    std::vector<std::string> material_files;  // the .mtl files read
 };
 
 // The file's lines without their comments and byte order mark, one line for each line of the
@@ -228,6 +229,7 @@ ObjLines read_obj_lines(const std::string& path) {
                 if (std::ifstream(mtl)) {
                     found = true;
                     mtl_loaded.insert(name);
+                    out.material_files.push_back(mtl);
                     break;
                 }
             }
@@ -388,6 +390,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
+    mesh.material_files = lines.material_files;
     return mesh;
 }
 

@@ -24,6 +24,24 @@ namespace texr {
 
 namespace {
 
+// A token in quotes, as a message shows it: bytes that are not printable ASCII (a no-break
+// space pasted from a web page, a tab inside a token, UTF-8) are written as \xNN, so that a
+// token that looks right but is not shows why.
+std::string shown(const std::string& token) {
+    std::string out = "'";
+    for (const unsigned char ch : token) {
+        if (ch >= 0x20 && ch < 0x7f) {
+            out += char(ch);
+        } else {
+            static const char digits[] = "0123456789ABCDEF";
+            out += "\\x";
+            out += digits[ch >> 4];
+            out += digits[ch & 15];
+        }
+    }
+    return out + "'";
+}
+
 // v times the power of two that brings its largest component into [1, 2): the same direction,
 // and glm::normalize gives the same bits for it (every step scales exactly), but its squared
 // length neither overflows nor underflows (a light direction of 1e300, an up of 1e-300).
@@ -129,7 +147,7 @@ public:
     double number(const std::string& what) {
         const std::string text = word(what);
         double value = 0.0;
-        if (!parse_number(text, value)) fail("expected " + what + ", found '" + text + "'");
+        if (!parse_number(text, value)) fail("expected " + what + ", found " + shown(text));
         return value;
     }
 
@@ -291,6 +309,7 @@ private:
         if (!(glm::length(view) > 0.0 && std::isfinite(glm::length(view))))
             c.fail_at(view_at, "camera eye and target are too close together or too far apart for a view direction (their "
                                "distance squared is beyond a double's range)");
+        if (up_at != 0 && cam.up == glm::dvec3(0.0)) c.fail_at(up_at, "camera up must not be the zero vector");
         if (glm::length(glm::cross(direction_scaled(view), cam.up)) == 0.0)  // at `up` when it was given (the message names it)
             c.fail_at(up_at != 0 ? up_at : view_at, "camera up must not be parallel to the view direction");
     }
@@ -367,6 +386,7 @@ private:
         try {
             auto loaded = std::make_shared<const Image>(load_image(path, space));
             images_[key] = loaded;
+            scene_.files.push_back(path);
             return loaded;
         } catch (const InputError& e) {
             c.fail_at(at, context + e.what());
@@ -504,6 +524,8 @@ private:
             c.fail_at(path_at, path + ": out of memory reading the OBJ file");
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
+        scene_.files.push_back(path);
+        scene_.files.insert(scene_.files.end(), mesh.material_files.begin(), mesh.material_files.end());
         if (!mesh.has_normals) fill_smooth_normals(mesh);
         else replace_zero_normals(mesh);
         add_object(c, material >= 0 ? material_at : path_at, std::move(mesh), object, path);
@@ -669,6 +691,7 @@ private:
 Scene parse_scene(std::istream& in, const std::string& path) {
     Scene scene;
     scene.path = path;
+    scene.files.push_back(path);
     Parser parser(scene, path);
     for (const Line& line : read_lines(in, path)) parser.command(line);
     if (scene.objects.empty()) throw InputError(path, 0, "scene has no objects (add a mesh, triangle or quad line)");

@@ -27,6 +27,10 @@ std::vector<std::uint8_t> encode_frame(const Framebuffer& fb, FrameFormat format
 // path is a folder, an existing file there cannot be replaced, or it is a link to a device
 // or a pipe, or links in a loop).
 void check_output_path(const std::string& path);
+// Throws InputError if the frame at `requested` would replace one of `inputs` (the same file,
+// by device and inode: through another name or a symbolic link too): a scene's own texture,
+// say. Files that do not exist yet cannot be replaced.
+void check_not_an_input(const std::string& requested, const std::vector<std::string>& inputs);
 
 // Writes `bytes` to `path` through a temporary file and a rename. An existing file keeps its
 // permission bits, and a symbolic link is written through (its target is replaced, the

@@ -63,6 +63,7 @@ struct Mesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<int> triangle_material;  // per triangle, index into Scene::materials
     bool has_uv = false, has_normals = false, has_colors = false;
+    std::vector<std::string> material_files;  // the .mtl files an OBJ file's mtllib lines read
 };
 
 struct Object {
@@ -73,6 +74,9 @@ struct Object {
 
 struct Scene {
     std::string path;  // the scene file
+    // Every file the scene was read from: the scene file, OBJ and .mtl files, images (so that
+    // texr render can refuse to write its frame over one of them).
+    std::vector<std::string> files;
     int width = 640, height = 480;
     Camera camera;
     Color background{0.0f, 0.0f, 0.0f};
