@@ -353,7 +353,9 @@ double kernel(double x, double b, double c) {
 // Bicubic by definition: the 4x4 texels around the lattice position, each through the wrap
 // rules on texel indices (wrap_index, checked against OpenGL's in this file), the border
 // colour for an index beyond the image; node registration with border wrap first applies
-// the slide's test; the overshoot clamp to the range of the 2x2 texels around the position.
+// the slide's test, and inside [0, 1] reads the texture alone (taps beyond the edge nodes
+// read the edge, as clamp); the overshoot clamp to the range of the 2x2 texels around the
+// position.
 Color4 bicubic_by_definition(const Image& image, const Sampler& s, double u, double v) {
     const bool node = s.registration == Registration::node;
     const auto outside = [&](Wrap wrap, double t) { return node && wrap == Wrap::border && !(t >= 0.0 && t <= 1.0); };
@@ -365,8 +367,10 @@ Color4 bicubic_by_definition(const Image& image, const Sampler& s, double u, dou
     const int w = image.width(), h = image.height();
     const double x = node ? u * (w - 1) : u * w - 0.5, y = node ? v * (h - 1) : v * h - 0.5;
     const double x0 = std::floor(x), y0 = std::floor(y);
+    const Wrap tap_u = node && s.wrap_u == Wrap::border ? Wrap::clamp : s.wrap_u;
+    const Wrap tap_v = node && s.wrap_v == Wrap::border ? Wrap::clamp : s.wrap_v;
     const auto texel = [&](double i, double j) {
-        const int column = wrap_index(s.wrap_u, int(i), w, node), row = wrap_index(s.wrap_v, int(j), h, node);
+        const int column = wrap_index(tap_u, int(i), w, node), row = wrap_index(tap_v, int(j), h, node);
         return column < 0 || row < 0 ? s.border : image.texel(column, row);
     };
     Color4 sum(0.0f);
@@ -442,9 +446,15 @@ TEST_CASE("node registration with border wrap: every filter reads the border col
         for (double u : {-0.01, -1e-12, 1.0 + 1e-12, 1.2, -5.0})
             CHECK(at(u, 0.5) == s.border);
         CHECK(at(0.5, -0.01) == s.border);
-        // (At the nodes: bicubic between them reads the border as a neighbour, as every filter
-        // reads the taps beyond the image.)
-        for (double u : {0.0, 0.5, 1.0}) CHECK(grey(at(u, 0.5)) == doctest::Approx(1.0));
+        // Inside [0, 1] the image alone: at the nodes, and between them, where bicubic's taps
+        // reach beyond the edge nodes (they read the edge: a review found the B-spline at
+        // 0.833 at u = 0 and Catmull-Rom at 1.05 at u = 0.02 when they read the border).
+        for (double u : {0.0, 0.02, 0.25, 0.5, 0.98, 1.0}) CHECK(grey(at(u, 0.5)) == doctest::Approx(1.0));
+        if (f == Filter::bicubic) {
+            s.cubic_b = 1.0f, s.cubic_c = 0.0f;  // the B-spline: no node weight is 1
+            for (double u : {0.0, 0.02, 1.0}) CHECK(grey(at(u, 0.5)) == doctest::Approx(1.0));
+            s.cubic_b = 0.0f, s.cubic_c = 0.5f;
+        }
         // Along an axis that is not border, the test does not apply.
         s.wrap_v = Wrap::clamp;
         CHECK(grey(at(0.5, -0.5)) == doctest::Approx(1.0));

@@ -39,13 +39,19 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
     const int x0 = int(x.whole), y0 = int(y.whole);
     const float fu = float(x.fraction), fv = float(y.fraction);
     // Taps at offsets -1, 0, 1, 2 from floor(x): distances 1 + f, f, 1 - f, 2 - f.
+    // With node registration a border axis has been tested above: the lookup lies inside
+    // [0, 1], where the slide returns the texture, so taps beyond its edge nodes read the edge
+    // (as clamp), not the border colour.
+    const bool node = sampler.registration == Registration::node;
+    const Wrap tap_wrap_u = node && sampler.wrap_u == Wrap::border ? Wrap::clamp : sampler.wrap_u;
+    const Wrap tap_wrap_v = node && sampler.wrap_v == Wrap::border ? Wrap::clamp : sampler.wrap_v;
     float wu[4], wv[4];
     int iu[4], iv[4];
     for (int k = 0; k < 4; ++k) {
         wu[k] = mitchell_netravali(float(k - 1) - fu, sampler.cubic_b, sampler.cubic_c);
         wv[k] = mitchell_netravali(float(k - 1) - fv, sampler.cubic_b, sampler.cubic_c);
-        iu[k] = wrap_index(sampler.wrap_u, x0 + k - 1, w, sampler.registration == Registration::node);
-        iv[k] = wrap_index(sampler.wrap_v, y0 + k - 1, h, sampler.registration == Registration::node);
+        iu[k] = wrap_index(tap_wrap_u, x0 + k - 1, w, node);
+        iv[k] = wrap_index(tap_wrap_v, y0 + k - 1, h, node);
     }
     Color4 sum(0.0f);
     for (int b = 0; b < 4; ++b) {

@@ -20,6 +20,9 @@ enum class Wrap { repeat, mirror, clamp, border };
 // --- the slides' coordinate form -------------------------------------------------------
 inline double wrap_repeat(double u) { return u - std::floor(u); }
 
+// The slide tests the period's parity with l_u % 2 == 1, which in C is false for odd
+// negative l_u (-1 % 2 is -1), so its periods [-1, 0), [-3, -2), ... would repeat; texr
+// mirrors every odd period, as OpenGL's mirrored repeat does, by the parity of |l_u|.
 inline double wrap_mirror(double u) {
     const double lattice = std::floor(u);
     const double t = u - lattice;
