@@ -113,27 +113,34 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
 
     const auto& weights = gaussian_weights();
     const float* const weight_of = weights.data();
-    // Wrap the box's columns and rows once each (the usual box is a few dozen texels wide
-    // and about as many high). The ellipse holds the unit disc (the +1 above), so its box is
-    // at least 2 texels a side; max() only keeps an ellipse beyond measure from sizing the
-    // scratch memory by a negative number.
+    // The box: the usual one is a few dozen texels wide and about as many high. The ellipse
+    // holds the unit disc (the +1 above), so its box is at least 2 texels a side; max() only
+    // keeps an ellipse beyond measure from sizing the scratch memory by a negative number.
     const int width = std::max(s1 - s0 + 1, 0), height = std::max(t1 - t0 + 1, 0);
     EwaScratch& scratch = ewa_scratch();
     scratch.reserve(width, height);
     int* const columns = scratch.columns.data();
     int* const rows = scratch.rows.data();
-    for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node);
-    for (int k = 0; k < height; ++k) rows[k] = wrap_index(s.wrap_v, t0 + k, h, node);
     // Each cell's place, row_place[r] + column_place[k]: on an 8-bit image with no border the
     // texel's byte offset (its texels are read through row addresses), else (r << 32) + k.
     const bool bordered = s.wrap_u == Wrap::border || s.wrap_v == Wrap::border;
     const bool by_offset = !image.is_hdr() && !bordered;
-    const LdrLevel level = by_offset ? image.ldr_level() : LdrLevel{};
+    const LdrLevel level = by_offset ? image.ldr_level(true) : LdrLevel{};
     std::int64_t* const column_place = scratch.column_places.data();
     std::int64_t* const row_place = scratch.row_places.data();
-    for (int k = 0; k < width; ++k) column_place[k] = by_offset ? std::int64_t(columns[k]) * 4 : k;
-    for (int r = 0; r < height; ++r)
-        row_place[r] = by_offset ? std::int64_t(rows[r]) * std::int64_t(level.row_bytes) : std::int64_t(r) << 32;
+    const std::int64_t row_bytes = std::int64_t(level.row_bytes);
+    // The usual box lies inside the image: its places need no table (nor wrapping). Others
+    // have their columns and rows wrapped once each, into tables.
+    const bool inside_image = by_offset && s0 >= 0 && s1 < w && t0 >= 0 && t1 < h;
+    if (inside_image) {
+        // (places worked out as the cells are listed, below)
+    } else if (by_offset) {
+        for (int k = 0; k < width; ++k) column_place[k] = std::int64_t(wrap_index(s.wrap_u, s0 + k, w, node)) * 4;
+        for (int r = 0; r < height; ++r) row_place[r] = std::int64_t(wrap_index(s.wrap_v, t0 + r, h, node)) * row_bytes;
+    } else {
+        for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node), column_place[k] = k;
+        for (int r = 0; r < height; ++r) rows[r] = wrap_index(s.wrap_v, t0 + r, h, node), row_place[r] = std::int64_t(r) << 32;
+    }
 
     // First the cells inside the ellipse (Q < 1), listed in the box's order, rows from t0,
     // each from s0: every cell is written to the list, and the list grows only by those
@@ -145,46 +152,52 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     double* const q_list = scratch.q.data();
     std::int64_t* const place_list = scratch.places.data();
     std::size_t n = 0;
-    for (int r = 0; r < height; ++r) {
-        const double tt = (t0 + r) - ct;
-        const std::int64_t row = row_place[r];
-        const double ss = s0 - cs;
-        const double r2_even = a * ss * ss + b * ss * tt + c * tt * tt;
-        const double r2_odd = a * (ss + 1.0) * (ss + 1.0) + b * (ss + 1.0) * tt + c * tt * tt;
-        const double step_even = a * (4.0 * ss + 4.0) + 2.0 * b * tt, step_odd = step_even + 4.0 * a;
-        int k = 0;
+    const auto list_cells = [&](auto row_place_of, auto column_place_of) {
+        for (int r = 0; r < height; ++r) {
+            const double tt = (t0 + r) - ct;
+            const std::int64_t row = row_place_of(r);
+            const double ss = s0 - cs;
+            const double r2_even = a * ss * ss + b * ss * tt + c * tt * tt;
+            const double r2_odd = a * (ss + 1.0) * (ss + 1.0) + b * (ss + 1.0) * tt + c * tt * tt;
+            const double step_even = a * (4.0 * ss + 4.0) + 2.0 * b * tt, step_odd = step_even + 4.0 * a;
+            int k = 0;
 #if defined(__SSE2__)
-        __m128d r2 = _mm_set_pd(r2_odd, r2_even), step = _mm_set_pd(step_odd, step_even);
-        const __m128d step_step = _mm_set1_pd(8.0 * a), one = _mm_set1_pd(1.0);
-        for (; k + 1 < width; k += 2) {
-            const int inside_mask = _mm_movemask_pd(_mm_cmplt_pd(r2, one));  // (NaN: outside)
-            _mm_storel_pd(q_list + n, r2);
-            place_list[n] = row + column_place[k];
-            n += std::size_t(inside_mask & 1);
-            _mm_storeh_pd(q_list + n, r2);
-            place_list[n] = row + column_place[k + 1];
-            n += std::size_t(inside_mask >> 1);
-            r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
-        }
-        const double r2_last = _mm_cvtsd_f64(r2);
+            __m128d r2 = _mm_set_pd(r2_odd, r2_even), step = _mm_set_pd(step_odd, step_even);
+            const __m128d step_step = _mm_set1_pd(8.0 * a), one = _mm_set1_pd(1.0);
+            for (; k + 1 < width; k += 2) {
+                const int inside_mask = _mm_movemask_pd(_mm_cmplt_pd(r2, one));  // (NaN: outside)
+                _mm_storel_pd(q_list + n, r2);
+                place_list[n] = row + column_place_of(k);
+                n += std::size_t(inside_mask & 1);
+                _mm_storeh_pd(q_list + n, r2);
+                place_list[n] = row + column_place_of(k + 1);
+                n += std::size_t(inside_mask >> 1);
+                r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
+            }
+            const double r2_last = _mm_cvtsd_f64(r2);
 #else
-        double r2_even_k = r2_even, r2_odd_k = r2_odd, step_even_k = step_even, step_odd_k = step_odd;
-        const double step_step = 8.0 * a;
-        for (; k + 1 < width; k += 2) {
-            q_list[n] = r2_even_k, place_list[n] = row + column_place[k];
-            n += std::size_t(r2_even_k < 1.0);
-            q_list[n] = r2_odd_k, place_list[n] = row + column_place[k + 1];
-            n += std::size_t(r2_odd_k < 1.0);
-            r2_even_k += step_even_k, step_even_k += step_step;
-            r2_odd_k += step_odd_k, step_odd_k += step_step;
-        }
-        const double r2_last = r2_even_k;
+            double r2_even_k = r2_even, r2_odd_k = r2_odd, step_even_k = step_even, step_odd_k = step_odd;
+            const double step_step = 8.0 * a;
+            for (; k + 1 < width; k += 2) {
+                q_list[n] = r2_even_k, place_list[n] = row + column_place_of(k);
+                n += std::size_t(r2_even_k < 1.0);
+                q_list[n] = r2_odd_k, place_list[n] = row + column_place_of(k + 1);
+                n += std::size_t(r2_odd_k < 1.0);
+                r2_even_k += step_even_k, step_even_k += step_step;
+                r2_odd_k += step_odd_k, step_odd_k += step_step;
+            }
+            const double r2_last = r2_even_k;
 #endif
-        if (k < width) {
-            q_list[n] = r2_last, place_list[n] = row + column_place[k];
-            n += std::size_t(r2_last < 1.0);
+            if (k < width) {
+                q_list[n] = r2_last, place_list[n] = row + column_place_of(k);
+                n += std::size_t(r2_last < 1.0);
+            }
         }
-    }
+    };
+    if (inside_image)
+        list_cells([&](int r) { return std::int64_t(t0 + r) * row_bytes; }, [&](int k) { return std::int64_t(s0 + k) * 4; });
+    else
+        list_cells([&](int r) { return row_place[r]; }, [&](int k) { return column_place[k]; });
 
     // Then their Gaussian-weighted sum, in the same order.
     Color4 sum(0.0f);
@@ -194,7 +207,7 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     // An 8-bit image's decoded copy, where it has one (Image::decoded_texels), holds the
     // values decode_ldr_texel reads from the bytes, 4 floats a texel at 4 times the byte
     // offset: one load a texel instead of four byte loads and three table loads.
-    const float* decoded = by_offset ? image.ldr_level(true).decoded : nullptr;
+    const float* const decoded = level.decoded;
     if (decoded) {
 #if defined(__SSE__)
         // (each lane the same product and sum as Color4's)
