@@ -43,7 +43,7 @@ const std::array<float, weight_table_size>& gaussian_weights() {
     return table;
 }
 
-// The per-thread memory of ewa_at_level: the box's wrapped columns and rows, their places
+// The per-thread memory of ewa_over: the box's wrapped columns and rows, their places
 // (below), and the list of the cells inside the ellipse (each one's Q and place). It grows to
 // the largest box seen and is kept (a box is at most a few hundred texels a side,
 // max_anisotropy <= 64: a few hundred KiB).
@@ -64,11 +64,19 @@ EwaScratch& ewa_scratch() {
     return scratch;
 }
 
-// The weighted average over the ellipse at one level. (u, v) in [0, 1] texture space;
-// d1, d2 two conjugate semi-diameters of the ellipse in the same units (sample_ewa passes its
-// principal axes; ewa.h's coefficients give the same ellipse for any conjugate pair).
-Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
-                    double d2v, int& texels) {
+// The ellipse on one level: Q(s, t) = a s^2 + b s t + c t^2 < 1 about the centre (cs, ct) on
+// the level's lattice, and its bounding box of cells [s0, s1] x [t0, t1].
+struct EwaEllipse {
+    double a, b, c, cs, ct;
+    int s0, s1, t0, t1;
+};
+
+// The ellipse at one level. (u, v) in [0, 1] texture space; d1, d2 two conjugate
+// semi-diameters of the ellipse in the same units (sample_ewa passes its principal axes;
+// ewa.h's coefficients give the same ellipse for any conjugate pair). Inline, so that the
+// two levels' ellipses, worked out one after the other, overlap their divides and roots.
+[[gnu::always_inline]] inline EwaEllipse ellipse_at_level(const Image& image, const Sampler& s, double u, double v, double d1u,
+                                                          double d1v, double d2u, double d2v) {
     const int w = image.width(), h = image.height();
     const bool node = s.registration == Registration::node;
     // The diameters on this level's lattice (node registration: its n - 1 spacings).
@@ -110,6 +118,16 @@ Color4 ewa_at_level(const Image& image, const Sampler& s, double u, double v, do
     // The box is a few hundred texels at most (max_anisotropy <= 64), so the floors fit in int.
     const int s0 = int(-floor_to_int64(half_s - cs)), s1 = int(floor_to_int64(cs + half_s));
     const int t0 = int(-floor_to_int64(half_t - ct)), t1 = int(floor_to_int64(ct + half_t));
+    return {a, b, c, cs, ct, s0, s1, t0, t1};
+}
+
+// The Gaussian-weighted average over the ellipse e at one level; `texels` grows by the number
+// of texels read.
+Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& texels) {
+    const int w = image.width(), h = image.height();
+    const bool node = s.registration == Registration::node;
+    const double a = e.a, b = e.b, c = e.c, cs = e.cs, ct = e.ct;
+    const int s0 = e.s0, s1 = e.s1, t0 = e.t0, t1 = e.t1;
 
     const auto& weights = gaussian_weights();
     const float* const weight_of = weights.data();
@@ -281,12 +299,16 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
     const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
-    const auto at = [&](int level) {
-        return ewa_at_level(mip.level(level), s, u, v, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h, texels);
+    const auto ellipse = [&](const Image& level) {
+        return ellipse_at_level(level, s, u, v, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h);
     };
-    const Color4 a = at(l0);
-    if (t == 0.0f || l0 == last) return a;
-    const Color4 b = at(l0 + 1);
+    const Image& first = mip.level(l0);
+    const EwaEllipse e0 = ellipse(first);
+    if (t == 0.0f || l0 == last) return ewa_over(first, s, e0, texels);
+    const Image& second = mip.level(l0 + 1);
+    const EwaEllipse e1 = ellipse(second);
+    const Color4 a = ewa_over(first, s, e0, texels);
+    const Color4 b = ewa_over(second, s, e1, texels);
     return a + t * (b - a);
 }
 
