@@ -1024,6 +1024,12 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {triangle + "vn 0 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "needs x, y and z"},
         {triangle + "f 1 2\n", "bad.obj:4: ", "at least 3 corners"},
         {triangle + "f 1 2 3/a\n", "bad.obj:4: ", "expected a face corner"},
+        // A corner cut short (a truncated file) or with a fourth part: tinyobjloader read '3/'
+        // as index 0 and said only "zero value for face index", and ignored '/1' after vn.
+        {triangle + "vt 0 0\nf 1/1 2/1 3/\n", "bad.obj:5: ", "expected a face corner (v, v/vt, v//vn or v/vt/vn), got '3/'"},
+        {triangle + "f 1 2 3//\n", "bad.obj:4: ", "got '3//'"},
+        {triangle + "vt 0 0\nf 1/1/ 2/1 3/1\n", "bad.obj:5: ", "got '1/1/'"},
+        {triangle + "vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1/1\n", "bad.obj:6: ", "got '3/1/1/1'"},
         // tinyobjloader drops such a quad with only a warning
         {triangle + "v 1 1 0\nusemtl red\nf 1 2 3\nf 1 2 4 99\n", "bad.obj:7: ", "vertex that does not exist"},
         {triangle + "f -1 -2 -4\n", "bad.obj:4: ", "vertex that does not exist"},

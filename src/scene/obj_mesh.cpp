@@ -246,6 +246,10 @@ ObjLines read_obj_lines(const std::string& path) {
                 // v, v/vt, v//vn or v/vt/vn: a negative index counts back from what is defined
                 // so far; a positive one past that is checked against the whole file at its end.
                 const long long defined[3] = {positions, uvs, normals};
+                // At most two slashes, and none at the end ('1/', '1//' or '1/2/': a corner cut
+                // short, which tinyobjloader would read as index 0).
+                if (std::count(corner.begin(), corner.end(), '/') > 2 || corner.back() == '/')
+                    fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got '" + std::string(corner) + "'");
                 std::size_t start = 0;
                 for (int part = 0; part < 3 && start <= corner.size(); ++part) {
                     const std::size_t slash = std::min(corner.find('/', start), corner.size());

@@ -155,7 +155,7 @@ public:
 
     // An 8-bit image's texels decoded to linear float RGBA, as texel() reads them, for the
     // short paths that blend texels (src/render/scanline.h: bilinear on the spans where it
-    // pays, the mip filters) and anisotropic filtering; made on the first call
+    // pays, the mip filters), anisotropic filtering and EWA; made on the first call
     // (thread-safe), so an image no such lookup reads has none. Null for HDR images, for
     // images of more than max_decoded_texels texels, once the process's copies would pass
     // decoded_budget_bytes (counted as the memory they take: whole 2 MiB pages from 1 MiB
