@@ -1912,3 +1912,23 @@ TEST_CASE("a zero camera up vector and a number with a no-break space get messag
     CHECK(r.output == "texr: " + dir + "/nbsp.txt:1: expected the width, found '8\\xC2\\xA0'\n");
     CHECK_FALSE(file_exists(dir + "/a.png"));
 }
+
+TEST_CASE("a map_Kd line with texture options is refused at its .mtl line, as texr would draw the image without them") {
+    const std::string dir = scratch_folder("mapkd-options");
+    write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3\n");
+    write_text(dir + "/t.ppm", std::string("P6\n2 2\n255\n") + std::string(12, '\x80'));
+    write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 3\nmesh t.obj\n");
+    for (const std::string option : {"-s 2 2 1", "-o 0.5 0 0", "-clamp on", "-bm 1"}) {
+        write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd " + option + " t.ppm\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(option);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find(dir + "/t.mtl:3: map_Kd option '" + option.substr(0, option.find(' ')) + "' is not supported") != std::string::npos);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+    // Without options, and with a file name holding a hyphen, it is read.
+    write_text(dir + "/t-1.ppm", std::string("P6\n2 2\n255\n") + std::string(12, '\x80'));
+    write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd t-1.ppm\n");
+    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+}

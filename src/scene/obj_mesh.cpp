@@ -4,6 +4,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -110,7 +111,8 @@ std::vector<std::string> mtllib_names(const std::string& text) {
 
 // The Kd colours of a .mtl file's text (lines end at LF, CR or CRLF, as tinyobjloader reads
 // them): it reads a word that is not a number as 0 and takes 'Kd 0.5' as (0.5, 0, 0); texr
-// wants 3 numbers from 0 to max_color (scene.h) on every Kd line.
+// wants 3 numbers from 0 to max_color (scene.h) on every Kd line. And map_Kd lines without
+// texture options.
 void check_mtl_colors(const std::string& mtl, const std::string& text) {
     int line_number = 0;
     for (std::size_t start = 0; start < text.size();) {
@@ -122,7 +124,16 @@ void check_mtl_colors(const std::string& mtl, const std::string& text) {
         line.erase(std::min(line.size(), line.find('#')));
         std::istringstream words(line);
         std::string keyword, word;
-        if (!(words >> keyword) || keyword != "Kd") continue;
+        if (!(words >> keyword)) continue;
+        if (keyword == "map_Kd") {
+            // Texture options (-s scale, -o offset, -clamp, -bm, ...): tinyobjloader reads
+            // them, texr would draw the image without them; refused rather than ignored.
+            while (words >> word)
+                if (word.size() > 1 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1])))
+                    throw InputError(mtl, line_number, "map_Kd option '" + word + "' is not supported (texr reads the image alone): remove it");
+            continue;
+        }
+        if (keyword != "Kd") continue;
         int count = 0;
         bool good = true;
         while (words >> word) {
