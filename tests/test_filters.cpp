@@ -859,7 +859,7 @@ namespace {
 // `near_edge` is set when a texel's Q lies within 1e-9 of a step of the weight table (or of
 // the ellipse's edge), where the filter's stepped Q may round to the other side.
 Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
-                               double d2v, bool& near_edge) {
+                               double d2v, bool& near_edge, int reach_s = 200, int reach_t = 200) {
     const double a = d1v * d1v + d2v * d2v + 1.0, b = -2.0 * (d1u * d1v + d2u * d2v), c = d1u * d1u + d2u * d2u + 1.0;
     const double f = a * c - b * b / 4.0;
     const bool node = s.registration == Registration::node;
@@ -867,9 +867,9 @@ Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, d
     const double cs = node ? u * (w - 1) : u * w - 0.5, ct = node ? v * (h - 1) : v * h - 0.5;
     Color4 sum(0.0f);
     double weight_sum = 0.0;
-    const int reach = 200;  // beyond any ellipse the tests below make
-    for (int j = int(ct) - reach; j <= int(ct) + reach; ++j)
-        for (int i = int(cs) - reach; i <= int(cs) + reach; ++i) {
+    // (reach: beyond any ellipse the tests below make)
+    for (int j = int(ct) - reach_t; j <= int(ct) + reach_t; ++j)
+        for (int i = int(cs) - reach_s; i <= int(cs) + reach_s; ++i) {
             const double x = i - cs, y = j - ct;
             const double r2 = (a * x * x + b * x * y + c * y * y) / f;
             const double steps = r2 * 127.0;
@@ -977,6 +977,53 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
     // Most cases are held to the tight tolerance (a texel exactly on a step is rare).
     CHECK(cases_exact > 9 * cases_near_edge);
     MESSAGE("EWA cases compared within 1e-5: ", cases_exact, ", within 2e-3: ", cases_near_edge);
+}
+
+TEST_CASE("EWA over a box of more cells than its list holds (a thin image, far minified along its 1-texel side)") {
+    // A 1x1024 image: its levels stay 1 texel wide, so a footprint thousands of texels long
+    // along u keeps an ellipse that long on every level, and its box outgrows the filter's
+    // list of 2^14 cells (summed and emptied as it fills) and, past 2^14 columns, its table of
+    // columns (each cell then wrapped as it is listed). Axis-aligned footprints, so their
+    // principal axes are d1 and d2 themselves; max anisotropy 64 sets the level from
+    // major / 64. Three wrap pairs: the copy's path (repeat), the table's (clamp), and the
+    // general path's (border on u: every column but 0 reads the border colour).
+    std::mt19937_64 rng(53);
+    std::vector<std::uint8_t> bytes(1024 * 4);
+    for (auto& byte : bytes) byte = std::uint8_t(rng() % 256);
+    const MipMap mip(std::make_shared<Image>(Image::ldr(1, 1024, ColorSpace::srgb, bytes)));
+    struct Footprint {
+        double major, minor;  // base texels, along u and v
+        int reach;            // of the reference, along u
+    };
+    const Footprint footprints[] = {{6000.0, 94.0, 4300}, {12500.0, 196.0, 8900}};
+    const std::pair<Wrap, Wrap> wraps[] = {{Wrap::repeat, Wrap::repeat}, {Wrap::clamp, Wrap::mirror}, {Wrap::border, Wrap::repeat}};
+    for (const Footprint& fp : footprints)
+        for (const auto& [wrap_u, wrap_v] : wraps) {
+            Sampler s;
+            s.max_anisotropy = 64.0f;
+            s.wrap_u = wrap_u, s.wrap_v = wrap_v;
+            s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
+            const double lambda = std::log2(std::max(fp.minor, fp.major / 64.0));
+            const int l0 = int(lambda);
+            const double u = 0.37, v = 0.61;
+            bool near_edge = false;
+            const auto at = [&](int l) {
+                const Image& level = mip.level(l);
+                const double kx = 0.7 * level.width() / 1.0, ky = 0.7 * level.height() / 1024.0;
+                const double minor = std::max(fp.minor, fp.major / 64.0);  // (stretched)
+                return ewa_level_by_definition(level, s, u, v, fp.major * kx, 0.0, 0.0, minor * ky, near_edge, fp.reach, 12);
+            };
+            const Color4 a = at(l0), b = at(l0 + 1);
+            const Color4 expected = a + float(lambda - l0) * (b - a);
+            int texels = 0;
+            const Color4 got = sample_ewa(mip, s, u, v, {fp.major / 1.0, 0.0, 0.0, fp.minor / 1024.0}, texels);
+            CAPTURE(fp.major);
+            const int wrap_u_mode = int(wrap_u);  // (CAPTURE: not a binding)
+            CAPTURE(wrap_u_mode);
+            CAPTURE(texels);
+            CHECK(texels > 2 * 16384);  // more than the list holds, on each of the two levels
+            for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(near_edge ? 2e-3 : 1e-4));
+        }
 }
 
 TEST_CASE("EWA reads the same values from an 8-bit image's bytes as from its decoded copy") {

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -43,21 +44,15 @@ const std::array<float, weight_table_size>& gaussian_weights() {
     return table;
 }
 
-// The per-thread memory of ewa_over: the box's wrapped columns and rows, their places
-// (below), and the list of the cells inside the ellipse (each one's Q and place). It grows to
-// the largest box seen and is kept (a box is at most a few hundred texels a side,
-// max_anisotropy <= 64: a few hundred KiB).
+// The per-thread memory of ewa_over: a list of cells inside the ellipse (each one's Q and
+// place, below), summed and emptied whenever it fills, and the places of a box's columns.
+// Each holds ewa_list_cells entries, so a thread keeps 384 KiB, whatever the
+// box (a thin image's level can have a box of a million texels along its long side).
+constexpr std::size_t ewa_list_cells = std::size_t(1) << 14;
 struct EwaScratch {
-    std::vector<int> columns, rows;
-    std::vector<std::int64_t> column_places, row_places;
-    std::vector<double> q;
-    std::vector<std::int64_t> places;
-    void reserve(int width, int height) {
-        const std::size_t box = std::size_t(width) * std::size_t(height);
-        if (columns.size() < std::size_t(width)) columns.resize(std::size_t(width)), column_places.resize(std::size_t(width));
-        if (rows.size() < std::size_t(height)) rows.resize(std::size_t(height)), row_places.resize(std::size_t(height));
-        if (q.size() < box) q.resize(box), places.resize(box);
-    }
+    std::vector<double> q = std::vector<double>(ewa_list_cells);
+    std::vector<std::int64_t> places = std::vector<std::int64_t>(ewa_list_cells);
+    std::vector<std::int64_t> column_places = std::vector<std::int64_t>(ewa_list_cells);
 };
 EwaScratch& ewa_scratch() {
     thread_local EwaScratch scratch;
@@ -128,49 +123,102 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     const bool node = s.registration == Registration::node;
     const double a = e.a, b = e.b, c = e.c, cs = e.cs, ct = e.ct;
     const int s0 = e.s0, s1 = e.s1, t0 = e.t0, t1 = e.t1;
-
-    const auto& weights = gaussian_weights();
-    const float* const weight_of = weights.data();
     // The box: the usual one is a few dozen texels wide and about as many high. The ellipse
     // holds the unit disc (the +1 above), so its box is at least 2 texels a side; max() only
-    // keeps an ellipse beyond measure from sizing the scratch memory by a negative number.
+    // keeps an ellipse beyond measure from a negative count.
     const int width = std::max(s1 - s0 + 1, 0), height = std::max(t1 - t0 + 1, 0);
     EwaScratch& scratch = ewa_scratch();
-    scratch.reserve(width, height);
-    int* const columns = scratch.columns.data();
-    int* const rows = scratch.rows.data();
-    // Each cell's place, row_place[r] + column_place[k]: on an 8-bit image with no border the
-    // texel's byte offset (its texels are read through row addresses), else (r << 32) + k.
+    double* const q_list = scratch.q.data();
+    std::int64_t* const place_list = scratch.places.data();
+
+    // Each cell's place is row_place(r) + column_place(k): on an 8-bit image with no border
+    // the texel's byte offset (its texels are read through row addresses); else its wrapped
+    // row and column, each plus 1 (-1 is the border), as ((j + 1) << 32) + i + 1.
     const bool bordered = s.wrap_u == Wrap::border || s.wrap_v == Wrap::border;
     const bool by_offset = !image.is_hdr() && !bordered;
     const LdrLevel level = by_offset ? image.ldr_level(true) : LdrLevel{};
-    std::int64_t* const column_place = scratch.column_places.data();
-    std::int64_t* const row_place = scratch.row_places.data();
     const std::int64_t row_bytes = std::int64_t(level.row_bytes);
-    // The usual box lies inside the image: its places need no table (nor wrapping). Others
-    // have their columns and rows wrapped once each, into tables.
-    const bool inside_image = by_offset && s0 >= 0 && s1 < w && t0 >= 0 && t1 < h;
-    if (inside_image) {
-        // (places worked out as the cells are listed, below)
-    } else if (by_offset) {
-        for (int k = 0; k < width; ++k) column_place[k] = std::int64_t(wrap_index(s.wrap_u, s0 + k, w, node)) * 4;
-        for (int r = 0; r < height; ++r) row_place[r] = std::int64_t(wrap_index(s.wrap_v, t0 + r, h, node)) * row_bytes;
-    } else {
-        for (int k = 0; k < width; ++k) columns[k] = wrap_index(s.wrap_u, s0 + k, w, node), column_place[k] = k;
-        for (int r = 0; r < height; ++r) rows[r] = wrap_index(s.wrap_v, t0 + r, h, node), row_place[r] = std::int64_t(r) << 32;
-    }
+    const auto wrapped_column_place = [&](int k) {
+        const int i = wrap_index(s.wrap_u, s0 + k, w, node);
+        return by_offset ? std::int64_t(i) * 4 : std::int64_t(i) + 1;
+    };
+    const auto wrapped_row_place = [&](int r) {
+        const int j = wrap_index(s.wrap_v, t0 + r, h, node);
+        return by_offset ? std::int64_t(j) * row_bytes : (std::int64_t(j) + 1) << 32;
+    };
 
-    // First the cells inside the ellipse (Q < 1), listed in the box's order, rows from t0,
-    // each from s0: every cell is written to the list, and the list grows only by those
-    // inside, so there is no branch per cell (a branch whose outcome changes twice in every
-    // row of every ellipse is mispredicted often). Q steps along a row in two chains, even
-    // and odd cells, each two cells at a time (Q(s + 2) - Q(s) = a (4 s + 4) + 2 b t, which
-    // grows by 8 a per step), so that no cell's Q waits for the one before it; the two chains
-    // share a pair of SSE2 lanes.
-    double* const q_list = scratch.q.data();
-    std::int64_t* const place_list = scratch.places.data();
-    std::size_t n = 0;
-    const auto list_cells = [&](auto row_place_of, auto column_place_of) {
+    // The cells inside the ellipse are summed with Gaussian weights in the order they are
+    // listed (below), a list at a time.
+    const float* const weight_of = gaussian_weights().data();
+    // Q >= 0 (the form is positive definite); stepping may round it below 0.
+    const auto weight_at = [&](std::size_t i) { return weight_of[int(std::max(q_list[i], 0.0) * (weight_table_size - 1))]; };
+    // An 8-bit image's decoded copy, where it has one (Image::decoded_texels), holds the
+    // values decode_ldr_texel reads from the bytes, 4 floats a texel at 4 times the byte
+    // offset: one load a texel instead of four byte loads and three table loads.
+    const float* const decoded = level.decoded;
+    Color4 sum(0.0f);
+    float weight_sum = 0.0f;
+#if defined(__SSE__)
+    __m128 sum_lanes = _mm_setzero_ps();  // the sum from the copy (each lane the same product and sum as Color4's)
+#endif
+    // Sums the list's first `listed` cells.
+    const auto sum_listed = [&](std::size_t listed) {
+        // (the sums in locals: the lambda is not inlined everywhere, and sums kept behind
+        // its references would be stored and loaded again at every cell)
+        float listed_weight = weight_sum;
+        if (decoded) {
+#if defined(__SSE__)
+            __m128 lanes = sum_lanes;
+            for (std::size_t i = 0; i < listed; ++i) {
+                const float weight = weight_at(i);
+                lanes = _mm_add_ps(lanes, _mm_mul_ps(_mm_set1_ps(weight), _mm_loadu_ps(decoded + place_list[i])));
+                listed_weight += weight;
+            }
+            sum_lanes = lanes;
+#else
+            Color4 partial = sum;
+            for (std::size_t i = 0; i < listed; ++i) {
+                const float weight = weight_at(i);
+                const float* t = decoded + place_list[i];
+                partial += weight * Color4(t[0], t[1], t[2], t[3]);
+                listed_weight += weight;
+            }
+            sum = partial;
+#endif
+        } else if (by_offset) {
+            Color4 partial = sum;
+            for (std::size_t i = 0; i < listed; ++i) {
+                const float weight = weight_at(i);
+                partial += weight * decode_ldr_texel(level.texels + place_list[i], level.decode);
+                listed_weight += weight;
+            }
+            sum = partial;
+        } else {
+            Color4 partial = sum;
+            for (std::size_t i = 0; i < listed; ++i) {
+                const float weight = weight_at(i);
+                const int column = int(place_list[i] & 0xffffffff) - 1, row = int(place_list[i] >> 32) - 1;
+                partial += weight * ((column < 0 || row < 0) ? s.border : image.texel(column, row));
+                listed_weight += weight;
+            }
+            sum = partial;
+        }
+        weight_sum = listed_weight;
+        texels += int(listed);
+    };
+
+    // The cells inside the ellipse (Q < 1) are listed in the box's order, rows from t0, each
+    // from s0: every cell is written to the list, and the list grows only by those inside, so
+    // there is no branch per cell (a branch whose outcome changes twice in every row of every
+    // ellipse is mispredicted often). Q steps along a row in two chains, even and odd cells,
+    // each two cells at a time (Q(s + 2) - Q(s) = a (4 s + 4) + 2 b t, which grows by 8 a per
+    // step), so that no cell's Q waits for the one before it; the two chains share a pair of
+    // SSE2 lanes. A full list is summed and emptied, mid-row if need be.
+    const std::size_t room = ewa_list_cells;
+    // `chunked`: whether the list may fill before the box is listed (a box of more than
+    // ewa_list_cells cells); the usual box is listed without that test.
+    std::size_t n = 0;  // the cells listed and not yet summed
+    const auto list_cells = [&](auto chunked, auto row_place_of, auto column_place_of) {
         for (int r = 0; r < height; ++r) {
             const double tt = (t0 + r) - ct;
             const std::int64_t row = row_place_of(r);
@@ -179,89 +227,83 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
             const double r2_odd = a * (ss + 1.0) * (ss + 1.0) + b * (ss + 1.0) * tt + c * tt * tt;
             const double step_even = a * (4.0 * ss + 4.0) + 2.0 * b * tt, step_odd = step_even + 4.0 * a;
             int k = 0;
+            // The pairs of cells from k up to pairs_end() (exclusive): all of the row's, or as
+            // many as the list has room for.
+            const auto pairs_end = [&] {
+                if constexpr (!decltype(chunked)::value) {
+                    return width - 1;
+                } else {
+                    if (room - n < 2) sum_listed(n), n = 0;
+                    return k + 2 * int(std::min(std::size_t(width - k) / 2, (room - n) / 2));
+                }
+            };
 #if defined(__SSE2__)
             __m128d r2 = _mm_set_pd(r2_odd, r2_even), step = _mm_set_pd(step_odd, step_even);
             const __m128d step_step = _mm_set1_pd(8.0 * a), one = _mm_set1_pd(1.0);
-            for (; k + 1 < width; k += 2) {
-                const int inside_mask = _mm_movemask_pd(_mm_cmplt_pd(r2, one));  // (NaN: outside)
-                _mm_storel_pd(q_list + n, r2);
-                place_list[n] = row + column_place_of(k);
-                n += std::size_t(inside_mask & 1);
-                _mm_storeh_pd(q_list + n, r2);
-                place_list[n] = row + column_place_of(k + 1);
-                n += std::size_t(inside_mask >> 1);
-                r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
-            }
+            do {
+                for (const int k_end = pairs_end(); k < k_end; k += 2) {
+                    const int inside_mask = _mm_movemask_pd(_mm_cmplt_pd(r2, one));  // (NaN: outside)
+                    _mm_storel_pd(q_list + n, r2);
+                    place_list[n] = row + column_place_of(k);
+                    n += std::size_t(inside_mask & 1);
+                    _mm_storeh_pd(q_list + n, r2);
+                    place_list[n] = row + column_place_of(k + 1);
+                    n += std::size_t(inside_mask >> 1);
+                    r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
+                }
+            } while (decltype(chunked)::value && k + 1 < width);
             const double r2_last = _mm_cvtsd_f64(r2);
 #else
             double r2_even_k = r2_even, r2_odd_k = r2_odd, step_even_k = step_even, step_odd_k = step_odd;
             const double step_step = 8.0 * a;
-            for (; k + 1 < width; k += 2) {
-                q_list[n] = r2_even_k, place_list[n] = row + column_place_of(k);
-                n += std::size_t(r2_even_k < 1.0);
-                q_list[n] = r2_odd_k, place_list[n] = row + column_place_of(k + 1);
-                n += std::size_t(r2_odd_k < 1.0);
-                r2_even_k += step_even_k, step_even_k += step_step;
-                r2_odd_k += step_odd_k, step_odd_k += step_step;
+            while (k + 1 < width) {
+                for (const int k_end = pairs_end(); k < k_end; k += 2) {
+                    q_list[n] = r2_even_k, place_list[n] = row + column_place_of(k);
+                    n += std::size_t(r2_even_k < 1.0);
+                    q_list[n] = r2_odd_k, place_list[n] = row + column_place_of(k + 1);
+                    n += std::size_t(r2_odd_k < 1.0);
+                    r2_even_k += step_even_k, step_even_k += step_step;
+                    r2_odd_k += step_odd_k, step_odd_k += step_step;
+                }
             }
             const double r2_last = r2_even_k;
 #endif
             if (k < width) {
+                if constexpr (decltype(chunked)::value) {
+                    if (n == room) sum_listed(n), n = 0;
+                }
                 q_list[n] = r2_last, place_list[n] = row + column_place_of(k);
                 n += std::size_t(r2_last < 1.0);
             }
         }
     };
-    if (inside_image)
-        list_cells([&](int r) { return std::int64_t(t0 + r) * row_bytes; }, [&](int k) { return std::int64_t(s0 + k) * 4; });
-    else
-        list_cells([&](int r) { return row_place[r]; }, [&](int k) { return column_place[k]; });
-
-    // Then their Gaussian-weighted sum, in the same order.
-    Color4 sum(0.0f);
-    float weight_sum = 0.0f;
-    // Q >= 0 (the form is positive definite); stepping may round it below 0.
-    const auto weight_at = [&](std::size_t i) { return weight_of[int(std::max(q_list[i], 0.0) * (weight_table_size - 1))]; };
-    // An 8-bit image's decoded copy, where it has one (Image::decoded_texels), holds the
-    // values decode_ldr_texel reads from the bytes, 4 floats a texel at 4 times the byte
-    // offset: one load a texel instead of four byte loads and three table loads.
-    const float* const decoded = level.decoded;
-    if (decoded) {
-#if defined(__SSE__)
-        // (each lane the same product and sum as Color4's)
-        __m128 lanes = _mm_setzero_ps();
-        for (std::size_t i = 0; i < n; ++i) {
-            const float weight = weight_at(i);
-            lanes = _mm_add_ps(lanes, _mm_mul_ps(_mm_set1_ps(weight), _mm_loadu_ps(decoded + place_list[i])));
-            weight_sum += weight;
-        }
-        alignas(16) float out[4];
-        _mm_store_ps(out, lanes);
-        sum = Color4(out[0], out[1], out[2], out[3]);
-#else
-        for (std::size_t i = 0; i < n; ++i) {
-            const float weight = weight_at(i);
-            const float* t = decoded + place_list[i];
-            sum += weight * Color4(t[0], t[1], t[2], t[3]);
-            weight_sum += weight;
-        }
-#endif
-    } else if (by_offset) {
-        for (std::size_t i = 0; i < n; ++i) {
-            const float weight = weight_at(i);
-            sum += weight * decode_ldr_texel(level.texels + place_list[i], level.decode);
-            weight_sum += weight;
-        }
+    const bool chunked = std::size_t(width) * std::size_t(height) > room;
+    const std::true_type in_chunks;
+    const std::false_type at_once;
+    // Columns wrapped once into a table, where the box is not inside the image and the table
+    // holds its width.
+    const bool inside_image = by_offset && s0 >= 0 && s1 < w && t0 >= 0 && t1 < h;
+    const bool column_table = !inside_image && std::size_t(width) <= ewa_list_cells;
+    std::int64_t* const column_place = scratch.column_places.data();
+    if (column_table)
+        for (int k = 0; k < width; ++k) column_place[k] = wrapped_column_place(k);
+    if (!chunked && inside_image) {
+        // The usual box, inside the image: places without wrapping.
+        list_cells(at_once, [&](int r) { return std::int64_t(t0 + r) * row_bytes; }, [&](int k) { return std::int64_t(s0 + k) * 4; });
+    } else if (!chunked) {
+        list_cells(at_once, wrapped_row_place, [&](int k) { return column_place[k]; });
     } else {
-        for (std::size_t i = 0; i < n; ++i) {
-            const float weight = weight_at(i);
-            const int i_col = columns[place_list[i] & 0xffffffff], j = rows[place_list[i] >> 32];
-            sum += weight * ((i_col < 0 || j < 0) ? s.border : image.texel(i_col, j));
-            weight_sum += weight;
-        }
+        // (rare: a thin image's level, at high anisotropy)
+        list_cells(in_chunks, wrapped_row_place, [&](int k) { return column_table ? column_place[k] : wrapped_column_place(k); });
     }
-    const int inside = int(n);
-    texels += inside;
+    sum_listed(n);
+#if defined(__SSE__)
+    if (decoded) {
+        alignas(16) float out[4];
+        _mm_store_ps(out, sum_lanes);
+        sum = Color4(out[0], out[1], out[2], out[3]);
+    }
+#endif
     if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
     return sum / weight_sum;
 }
@@ -299,14 +341,12 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
     const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
-    const auto ellipse = [&](const Image& level) {
-        return ellipse_at_level(level, s, u, v, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h);
-    };
+    const double d1u = a1u * inv_w, d1v = a1v * inv_h, d2u = a2u * inv_w, d2v = a2v * inv_h;
     const Image& first = mip.level(l0);
-    const EwaEllipse e0 = ellipse(first);
+    const EwaEllipse e0 = ellipse_at_level(first, s, u, v, d1u, d1v, d2u, d2v);
     if (t == 0.0f || l0 == last) return ewa_over(first, s, e0, texels);
     const Image& second = mip.level(l0 + 1);
-    const EwaEllipse e1 = ellipse(second);
+    const EwaEllipse e1 = ellipse_at_level(second, s, u, v, d1u, d1v, d2u, d2v);
     const Color4 a = ewa_over(first, s, e0, texels);
     const Color4 b = ewa_over(second, s, e1, texels);
     return a + t * (b - a);
