@@ -1028,6 +1028,7 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         // as index 0 and said only "zero value for face index", and ignored '/1' after vn.
         {triangle + "vt 0 0\nf 1/1 2/1 3/\n", "bad.obj:5: ", "expected a face corner (v, v/vt, v//vn or v/vt/vn), got '3/'"},
         {triangle + "f 1 2 3//\n", "bad.obj:4: ", "got '3//'"},
+        {"v 0 0 1\xC2\xA0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "expected a number after 'v', got '1\\xC2\\xA0'"},
         {triangle + "vt 0 0\nf 1/1/ 2/1 3/1\n", "bad.obj:5: ", "got '1/1/'"},
         {triangle + "vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1/1\n", "bad.obj:6: ", "got '3/1/1/1'"},
         // tinyobjloader drops such a quad with only a warning
@@ -1881,6 +1882,13 @@ TEST_CASE("options take their value after '=' too, and lost standard output is a
     CAPTURE(r.output);
     CHECK(r.exit_code == 0);
     CHECK(r.output.find("wrote " + dir + "/a.png (4x2)") != std::string::npos);
+    for (const std::string flag : {"--stats", "--help"}) {  // a flag takes no value
+        r = run_texr("render " + dir + "/scene.txt " + flag + "=1");
+        CHECK(r.exit_code == 2);
+        CHECK(r.output == "texr: " + flag + " takes no value (give it as '" + flag + "')\n");
+    }
+    r = run_texr("render " + dir + "/scene.txt --frobnicate=1");
+    CHECK(r.output == "texr: unknown option '--frobnicate=1' for 'texr render'\n");
     r = run_texr("render " + dir + "/scene.txt --threads=0");  // the value is checked as ever
     CHECK(r.exit_code == 2);
     CHECK(r.output.find("--threads") != std::string::npos);
@@ -1927,8 +1935,12 @@ TEST_CASE("a map_Kd line with texture options is refused at its .mtl line, as te
         CHECK(r.output.find(dir + "/t.mtl:3: map_Kd option '" + option.substr(0, option.find(' ')) + "' is not supported") != std::string::npos);
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
-    // Without options, and with a file name holding a hyphen, it is read.
-    write_text(dir + "/t-1.ppm", std::string("P6\n2 2\n255\n") + std::string(12, '\x80'));
-    write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd t-1.ppm\n");
-    CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+    // Without options, and with file names holding or starting with a hyphen, it is read.
+    for (const std::string name : {"t-1.ppm", "-grid.ppm"}) {
+        write_text(dir + "/" + name, std::string("P6\n2 2\n255\n") + std::string(12, '\x80'));
+        write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd " + name + "\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+    }
 }

@@ -374,23 +374,35 @@ int run_explain(const std::vector<std::string>& argv) {
     return 0;
 }
 
-// `--name=value` as the two arguments `--name value` (each option takes its value either way).
+// `--name=value` as the two arguments `--name value`, for the options that take a value
+// (texr render's, explain's and bench's); a flag given a value is refused.
 std::vector<std::string> split_option_values(const std::vector<std::string>& args) {
+    static const char* const with_values[] = {"--output", "--size",   "--repeat", "--threads", "--spp",
+                                              "--span",   "--span-tolerance", "--models", "--out"};
     std::vector<std::string> out;
     for (const std::string& a : args) {
         const std::size_t equals = a.find('=');
-        if (a.rfind("--", 0) == 0 && equals != std::string::npos && equals > 2) {
-            out.push_back(a.substr(0, equals));
-            out.push_back(a.substr(equals + 1));
-        } else {
+        if (a.rfind("--", 0) != 0 || equals == std::string::npos || equals <= 2) {
             out.push_back(a);
+            continue;
         }
+        const std::string name = a.substr(0, equals);
+        const bool takes_value = std::find(std::begin(with_values), std::end(with_values), name) != std::end(with_values);
+        if (!takes_value && (name == "--stats" || name == "--quick" || name == "--help"))
+            throw UsageError{name + " takes no value (give it as '" + name + "')"};
+        if (!takes_value) {
+            out.push_back(a);  // (an unknown option, named whole in its message)
+            continue;
+        }
+        out.push_back(name);
+        out.push_back(a.substr(equals + 1));
     }
     return out;
 }
 
-int run(const std::vector<std::string>& args) {
+int run(const std::vector<std::string>& raw_args) {
     try {
+        const std::vector<std::string> args = split_option_values(raw_args);
         if (args.empty()) {
             std::fputs(main_help, stderr);
             return 2;
@@ -438,7 +450,7 @@ int run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int code = run(split_option_values(std::vector<std::string>(argv + 1, argv + argc)));
+    const int code = run(std::vector<std::string>(argv + 1, argv + argc));
     // What texr printed (an explanation, a table, help) is lost if standard output could not
     // take it (a full disk, a closed pipe): say so, and fail.
     errno = 0;

@@ -128,9 +128,14 @@ void check_mtl_colors(const std::string& mtl, const std::string& text) {
         if (keyword == "map_Kd") {
             // Texture options (-s scale, -o offset, -clamp, -bm, ...): tinyobjloader reads
             // them, texr would draw the image without them; refused rather than ignored.
+            // (tinyobjloader's options, each a word of its own; another word, '-grid.png' say,
+            // is a file name)
+            static const char* const options[] = {"-blendu", "-blendv", "-bm",  "-boost", "-clamp", "-colorspace", "-imfchan",
+                                                  "-mm",     "-o",      "-s",   "-t",     "-texres", "-type"};
             while (words >> word)
-                if (word.size() > 1 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1])))
-                    throw InputError(mtl, line_number, "map_Kd option '" + word + "' is not supported (texr reads the image alone): remove it");
+                for (const char* option : options)
+                    if (word == option)
+                        throw InputError(mtl, line_number, "map_Kd option '" + word + "' is not supported (texr reads the image alone): remove it");
             continue;
         }
         if (keyword != "Kd") continue;
@@ -206,7 +211,7 @@ ObjLines read_obj_lines(const std::string& path) {
             int count = 0;
             for (std::string_view word = next_word(); !word.empty(); word = next_word(), ++count) {
                 const std::optional<double> value = number_in(word);
-                if (!value) fail("expected a number after '" + std::string(keyword) + "', got '" + std::string(word) + "'");
+                if (!value) fail("expected a number after '" + std::string(keyword) + "', got " + shown_token(std::string(word)));
                 if (!std::isfinite(*value)) fail("expected a finite number, got '" + std::string(word) + "'");
                 // tinyobjloader keeps positions, normals and texture coordinates as floats.
                 if (!(std::fabs(*value) <= double(std::numeric_limits<float>::max())))

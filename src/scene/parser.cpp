@@ -24,23 +24,6 @@ namespace texr {
 
 namespace {
 
-// A token in quotes, as a message shows it: bytes that are not printable ASCII (a no-break
-// space pasted from a web page, a tab inside a token, UTF-8) are written as \xNN, so that a
-// token that looks right but is not shows why.
-std::string shown(const std::string& token) {
-    std::string out = "'";
-    for (const unsigned char ch : token) {
-        if (ch >= 0x20 && ch < 0x7f) {
-            out += char(ch);
-        } else {
-            static const char digits[] = "0123456789ABCDEF";
-            out += "\\x";
-            out += digits[ch >> 4];
-            out += digits[ch & 15];
-        }
-    }
-    return out + "'";
-}
 
 // v times the power of two that brings its largest component into [1, 2): the same direction,
 // and glm::normalize gives the same bits for it (every step scales exactly), but its squared
@@ -147,7 +130,7 @@ public:
     double number(const std::string& what) {
         const std::string text = word(what);
         double value = 0.0;
-        if (!parse_number(text, value)) fail("expected " + what + ", found " + shown(text));
+        if (!parse_number(text, value)) fail("expected " + what + ", found " + shown_token(text));
         return value;
     }
 

@@ -28,6 +28,24 @@ private:
     int line_;
 };
 
+// A token in quotes, as a message shows it: bytes that are not printable ASCII (a no-break
+// space pasted from a web page, a tab inside a token, UTF-8) are written as \xNN, so that a
+// token that looks right but is not shows why.
+inline std::string shown_token(const std::string& token) {
+    std::string out = "'";
+    for (const unsigned char ch : token) {
+        if (ch >= 0x20 && ch < 0x7f) {
+            out += char(ch);
+        } else {
+            static const char digits[] = "0123456789ABCDEF";
+            out += "\\x";
+            out += digits[ch >> 4];
+            out += digits[ch & 15];
+        }
+    }
+    return out + "'";
+}
+
 // Refuses a path that names a folder or a device rather than a file (`kind`: "an OBJ file"):
 // a folder read as a file is empty, and /dev/zero never ends. (A pipe is read: a scene can
 // come from one.) A path that does not exist passes here; opening it says so.
