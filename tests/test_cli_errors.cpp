@@ -1848,8 +1848,11 @@ TEST_CASE("texr render refuses to write its frame over a file the scene reads, b
     write_text(dir + "/m.ppm", ppm);
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3\n");
     write_text(dir + "/t.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd m.ppm\n");
+    // (and an OBJ file and its .mtl named as frames could be: texr reads any name)
+    write_text(dir + "/o.ppm", "mtllib l.ppm\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl green\nf 1 2 3\n");
+    write_text(dir + "/l.ppm", "newmtl green\nKd 0 1 0\n");
     const std::string scene = "size 8 8\ncamera eye 0 0 3\ntexture t file t.ppm\nmaterial m texture t\n"
-                              "triangle material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\nmesh t.obj\n";
+                              "triangle material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\nmesh t.obj\nmesh o.ppm\n";
     write_text(dir + "/scene.ppm", scene);  // (a scene file may have any name)
     std::system(("ln -s t.ppm '" + dir + "/link.ppm'").c_str());
     struct Case {
@@ -1857,7 +1860,8 @@ TEST_CASE("texr render refuses to write its frame over a file the scene reads, b
     };
     const Case cases[] = {{dir + "/t.ppm", dir + "/t.ppm"}, {dir + "/link.ppm", dir + "/t.ppm"},
                           {dir + "/../" + dir + "/t.ppm", dir + "/t.ppm"}, {dir + "/m.ppm", dir + "/m.ppm"},
-                          {dir + "/scene.ppm", dir + "/scene.ppm"}};
+                          {dir + "/scene.ppm", dir + "/scene.ppm"}, {dir + "/o.ppm", dir + "/o.ppm"},
+                          {dir + "/l.ppm", dir + "/l.ppm"}};
     for (const Case& c : cases) {
         const RunResult r = run_texr("render " + dir + "/scene.ppm -o " + c.output);
         CAPTURE(c.output);

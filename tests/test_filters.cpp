@@ -859,7 +859,7 @@ namespace {
 // `near_edge` is set when a texel's Q lies within 1e-9 of a step of the weight table (or of
 // the ellipse's edge), where the filter's stepped Q may round to the other side.
 Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, double v, double d1u, double d1v, double d2u,
-                               double d2v, bool& near_edge, int reach_s = 200, int reach_t = 200) {
+                               double d2v, bool& near_edge, int reach_s = 200, int reach_t = 200, int* inside = nullptr) {
     const double a = d1v * d1v + d2v * d2v + 1.0, b = -2.0 * (d1u * d1v + d2u * d2v), c = d1u * d1u + d2u * d2u + 1.0;
     const double f = a * c - b * b / 4.0;
     const bool node = s.registration == Registration::node;
@@ -875,6 +875,7 @@ Color4 ewa_level_by_definition(const Image& level, const Sampler& s, double u, d
             const double steps = r2 * 127.0;
             if (r2 < 1.0 + 1e-9 && std::fabs(steps - std::round(steps)) < 1e-9 * 127.0) near_edge = true;
             if (!(r2 < 1.0)) continue;
+            if (inside) ++*inside;
             // The filter tabulates its weights at r^2 = k / 127 and reads the entry at or below
             // r^2 (a documented quantisation: the exact exp would differ by up to 2%, more than
             // a wrong texel would show); so does this reference.
@@ -941,10 +942,12 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                     const double lambda = std::max(0.0, std::log2(minor));
                     const int l0 = int(lambda);
                     bool near_edge = false;
+                    int inside = 0;  // the texels inside the ellipses read
                     const auto at = [&](int l, double u, double v) {
                         const Image& level = mip.level(l);
                         const double kx = 0.7 * lattice(level.width()) / w, ky = 0.7 * lattice(level.height()) / h;
-                        return ewa_level_by_definition(level, s, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky, near_edge);
+                        return ewa_level_by_definition(level, s, u, v, d1u * kx, d1v * ky, d2u * kx, d2v * ky, near_edge, 200, 200,
+                                                       &inside);
                     };
                     for (int k = 0; k < 2; ++k) {
                         // Coordinates in [-0.5, 1.5); in [0, 1) for node registration with repeat,
@@ -963,6 +966,7 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                         CAPTURE(int(registration));
                         CAPTURE(w);
                         near_edge = false;
+                        inside = 0;
                         const Color4 a = at(l0, u, v), b = at(l0 + 1, u, v);
                         const Color4 expected = a + float(lambda - l0) * (b - a);
                         int texels = 0;
@@ -972,6 +976,9 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
                         const double tolerance = near_edge ? 2e-3 : 1e-5;
                         ++(near_edge ? cases_near_edge : cases_exact);
                         for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(tolerance));
+                        // Every texel inside either ellipse, and no other, is read (at a whole
+                        // lambda, l0's alone).
+                        if (!near_edge && float(lambda - l0) != 0.0f) CHECK(texels == inside);
                     }
                 }
     // Most cases are held to the tight tolerance (a texel exactly on a step is rare).
