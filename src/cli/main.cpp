@@ -377,8 +377,8 @@ int run_explain(const std::vector<std::string>& argv) {
 // `--name=value` as the two arguments `--name value`, for the options that take a value
 // (texr render's, explain's and bench's); a flag given a value is refused.
 std::vector<std::string> split_option_values(const std::vector<std::string>& args) {
-    static const char* const with_values[] = {"--output", "--size",   "--repeat", "--threads", "--spp",
-                                              "--span",   "--span-tolerance", "--models", "--out"};
+    static const char* const with_values[] = {"--output", "--size", "--repeat", "--threads", "--spp",
+                                              "--span", "--span-tolerance", "--models", "--out"};
     std::vector<std::string> out;
     for (const std::string& a : args) {
         const std::size_t equals = a.find('=');

@@ -4,7 +4,6 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>

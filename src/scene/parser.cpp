@@ -24,7 +24,6 @@ namespace texr {
 
 namespace {
 
-
 // v times the power of two that brings its largest component into [1, 2): the same direction,
 // and glm::normalize gives the same bits for it (every step scales exactly), but its squared
 // length neither overflows nor underflows (a light direction of 1e300, an up of 1e-300).

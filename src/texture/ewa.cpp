@@ -110,7 +110,11 @@ struct EwaEllipse {
         return x;
     };
     const double cs = centre(u, w, half_s, s.wrap_u), ct = centre(v, h, half_t, s.wrap_v);
-    // The box is a few hundred texels at most (max_anisotropy <= 64), so the floors fit in int.
+    // The box: a few hundred texels a side at most on a level of an image whose sides both
+    // shrink with the levels (max_anisotropy <= 64); along the 1-texel side of a thin image
+    // (whose levels keep it 1 texel) the ellipse keeps its base length, below 64 times the
+    // coarsest level's scale (sample_ewa reads that level alone beyond it): at most about
+    // 1.5M texels for 16384-texel images. The floors fit in int either way.
     const int s0 = int(-floor_to_int64(half_s - cs)), s1 = int(floor_to_int64(cs + half_s));
     const int t0 = int(-floor_to_int64(half_t - ct)), t1 = int(floor_to_int64(ct + half_t));
     return {a, b, c, cs, ct, s0, s1, t0, t1};
