@@ -46,9 +46,10 @@ const std::array<float, weight_table_size>& gaussian_weights() {
 
 // The per-thread memory of ewa_over: a list of cells inside the ellipse (each one's Q and
 // place, below), summed and emptied whenever it fills, and the places of a box's columns.
-// Each holds ewa_list_cells entries, so a thread keeps 384 KiB, whatever the
-// box (a thin image's level can have a box of a million texels along its long side).
-constexpr std::size_t ewa_list_cells = std::size_t(1) << 14;
+// Each holds ewa_list_cells entries, so a thread keeps 96 KiB, whatever the box (a thin
+// image's level can have a box of a million texels along its long side; the usual box is a
+// few dozen cells, and a list of 4096 is emptied once per lookup).
+constexpr std::size_t ewa_list_cells = std::size_t(1) << 12;
 struct EwaScratch {
     std::vector<double> q = std::vector<double>(ewa_list_cells);
     std::vector<std::int64_t> places = std::vector<std::int64_t>(ewa_list_cells);
