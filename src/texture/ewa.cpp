@@ -256,12 +256,12 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
                     n += std::size_t(inside_mask >> 1);
                     r2 = _mm_add_pd(r2, step), step = _mm_add_pd(step, step_step);
                 }
-            } while (decltype(chunked)::value && k + 1 < width);
+            } while (decltype(chunked)::value && k + 1 < width);  // (at once: one pass takes the row)
             const double r2_last = _mm_cvtsd_f64(r2);
 #else
             double r2_even_k = r2_even, r2_odd_k = r2_odd, step_even_k = step_even, step_odd_k = step_odd;
             const double step_step = 8.0 * a;
-            while (k + 1 < width) {
+            do {
                 for (const int k_end = pairs_end(); k < k_end; k += 2) {
                     q_list[n] = r2_even_k, place_list[n] = row + column_place_of(k);
                     n += std::size_t(r2_even_k < 1.0);
@@ -270,7 +270,7 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
                     r2_even_k += step_even_k, step_even_k += step_step;
                     r2_odd_k += step_odd_k, step_odd_k += step_step;
                 }
-            }
+            } while (decltype(chunked)::value && k + 1 < width);
             const double r2_last = r2_even_k;
 #endif
             if (k < width) {
