@@ -915,18 +915,19 @@ TEST_CASE("a scene file named as its own mesh is refused at the mesh line") {
     CHECK(r.output.find("scene.txt:2: " + dir + "/scene.txt: ") != std::string::npos);
 }
 
-TEST_CASE("a .mtl Kd that is not 3 numbers from 0 to 10000 is refused at its .mtl line, and nothing is written") {
+TEST_CASE("a .mtl Kd that is not 3 numbers (or 1) from 0 to 10000 is refused at its .mtl line, and nothing is written") {
     // tinyobjloader reads a word that is not a number as 0 and 'Kd 0.5' as (0.5, 0, 0).
     const std::string dir = scratch_folder("kd");
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
-    for (const std::string kd : {"-0.5 0 0", "0.2 1e30 0.2", "0 0 10001", "nan 0.5 0.5", "1 x 1", "0.5", "0.1 0.2 0.3 0.4"}) {
+    for (const std::string kd : {"-0.5 0 0", "0.2 1e30 0.2", "0 0 10001", "nan 0.5 0.5", "1 x 1", "0.5 0.5", "0.1 0.2 0.3 0.4", "-1",
+                                 "x", "spectral paint.rfl", "xyz 0.5 0.5 0.5"}) {
         write_text(dir + "/t.mtl", "# paint\nnewmtl paint\n  Kd " + kd + "\n");
         std::remove((dir + "/out.png").c_str());
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(r.output);
         CHECK(r.exit_code == 1);
-        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:3: Kd needs 3 numbers from 0 to 10000, got 'Kd " + kd + "'\n");
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:3: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd " + kd + "'\n");
         CHECK(!file_exists(dir + "/out.png"));
     }
     // The ends of the range render.
@@ -934,14 +935,14 @@ TEST_CASE("a .mtl Kd that is not 3 numbers from 0 to 10000 is refused at its .mt
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
     // Every .mtl tinyobjloader reads is checked: lines ended by CR alone (as it splits them),
     // and a second file on a line whose first an earlier mtllib line loaded (it skips that one).
-    write_text(dir + "/t.mtl", "newmtl paint\rKd 0.5\r");
+    write_text(dir + "/t.mtl", "newmtl paint\rKd 0.5 0\r");
     RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:2: Kd needs 3 numbers from 0 to 10000, got 'Kd 0.5'\n");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:2: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 0.5 0'\n");
     write_text(dir + "/t.mtl", "newmtl paint\nKd 0 1 0\n");
-    write_text(dir + "/b.mtl", "newmtl paint\nKd 0.5\n");
+    write_text(dir + "/b.mtl", "newmtl paint\nKd 0.5 0\n");
     write_text(dir + "/t.obj", "mtllib t.mtl\nmtllib t.mtl b.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/b.mtl:2: Kd needs 3 numbers from 0 to 10000, got 'Kd 0.5'\n");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/b.mtl:2: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 0.5 0'\n");
     // An OBJ in a folder whose name holds ':' finds its .mtl beside it.
     std::system(("mkdir -p '" + dir + "/a:b'").c_str());
     write_text(dir + "/a:b/t.mtl", "newmtl paint\nKd 0 0 1\n");
@@ -949,6 +950,67 @@ TEST_CASE("a .mtl Kd that is not 3 numbers from 0 to 10000 is refused at its .mt
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh a:b/t.obj\n");
     r = run_texr("explain " + dir + "/scene.txt 320 240");
     CHECK(r.output.find("material colour (0.00000, 0.00000, 1.00000)") != std::string::npos);
+}
+
+TEST_CASE("scene, OBJ and .mtl files with lines ended by CRLF or by CR alone render as with LF, and errors keep their lines") {
+    // tinyobjloader ends OBJ and .mtl lines at LF, CRLF or CR; texr's own checks of those
+    // files, and its scene files, must see the same lines.
+    const std::string dir = scratch_folder("line-ends");
+    std::system(("cp -r '" + source_path("models/textures") + "' '" + dir + "/textures'").c_str());
+    const auto ended = [](const std::string& text, const std::string& eol) {
+        std::string out;
+        for (const char c : text) out += c == '\n' ? eol : std::string(1, c);
+        return out;
+    };
+    const RunResult reference = run_texr("render " + source_path("models/demo.scene") + " --size 200x150 -o " + dir + "/lf.ppm");
+    REQUIRE(reference.exit_code == 0);
+    for (const std::string eol : {"\r\n", "\r"}) {
+        CAPTURE(eol.size());
+        for (const char* name : {"demo.scene", "torus.obj", "cube.obj", "cube.mtl"})
+            write_text(dir + "/" + name, ended(read_file(source_path(std::string("models/") + name)), eol));
+        const RunResult r = run_texr("render " + dir + "/demo.scene --size 200x150 -o " + dir + "/ended.ppm");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        CHECK(read_file(dir + "/ended.ppm") == read_file(dir + "/lf.ppm"));
+        // An error on a later line names that line, in each kind of file.
+        write_text(dir + "/t.obj", ended("# t\nmtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nv 1 x 0\nf 1 2 3\n", eol));
+        write_text(dir + "/t.mtl", ended("newmtl a\nKd 1 1 1\n", eol));
+        write_text(dir + "/scene.txt", ended("# a\ncamera eye 0 0 3\n\nmesh t.obj\n", eol));
+        CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").output ==
+              "texr: " + dir + "/scene.txt:4: " + dir + "/t.obj:6: expected a number after 'v', got 'x'\n");
+        write_text(dir + "/t.obj", ended("# t\nmtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n", eol));
+        write_text(dir + "/t.mtl", ended("newmtl a\n# b\nKd 1 1\n", eol));
+        CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").output ==
+              "texr: " + dir + "/scene.txt:4: " + dir + "/t.mtl:3: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 1 1'\n");
+        write_text(dir + "/scene.txt", ended("# a\ncamera eye 0 0 3\n\nbackground 1 2\n", eol));
+        CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").output.rfind("texr: " + dir + "/scene.txt:4: ", 0) == 0);
+        CHECK(!file_exists(dir + "/out.png"));
+    }
+}
+
+TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with every line ending") {
+    // (tinyobjloader alone would read 'Kd 0.25' as (0.25, 0, 0).)
+    const std::string dir = scratch_folder("kd-grey");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    for (const std::string eol : {"\n", "\r\n", "\r"}) {
+        CAPTURE(eol.size());
+        write_text(dir + "/t.obj", "mtllib t.mtl" + eol + "v -1 -1 0" + eol + "v 1 -1 0" + eol + "v 0 1 0" + eol + "usemtl grey" + eol +
+                                       "f 1 2 3" + eol + "v -1 -1 -1" + eol + "v 1 -1 -1" + eol + "v 0 1 -1" + eol + "usemtl red" + eol +
+                                       "f 4 5 6" + eol);
+        // The grey's line keeps its place: the line after it is still line 4 of the file.
+        write_text(dir + "/t.mtl", "newmtl grey" + eol + "  Kd\t0.25 # a grey" + eol + "newmtl red" + eol + "Kd 1 0 0" + eol);
+        RunResult r = run_texr("explain " + dir + "/scene.txt 320 240");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        CHECK(r.output.find("material colour (0.25000, 0.25000, 0.25000)") != std::string::npos);
+        write_text(dir + "/t.mtl", "newmtl grey" + eol + "Kd 0.25" + eol + "newmtl red" + eol + "Kd 1 0" + eol);
+        r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:4: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 1 0'\n");
+    }
+    // The last line without an end of line.
+    write_text(dir + "/t.mtl", "newmtl grey\nKd 0.75");
+    const RunResult r = run_texr("explain " + dir + "/scene.txt 320 240");
+    CHECK(r.output.find("material colour (0.75000, 0.75000, 0.75000)") != std::string::npos);
 }
 
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {

@@ -21,6 +21,7 @@
 
 #include "texr/core/error.h"
 #include "texr/core/path.h"
+#include "texr/core/text_line.h"
 
 namespace texr {
 
@@ -59,7 +60,7 @@ struct ObjLines {
 std::string text_without_comments(const std::string& path) {
     std::ifstream in(path);
     std::string text, line;
-    for (bool first = true; std::getline(in, line); first = false) {
+    for (bool first = true; read_text_line(in, line); first = false) {
         if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
         text.append(line, 0, line.find('#'));
         text += '\n';
@@ -108,18 +109,23 @@ std::vector<std::string> mtllib_names(const std::string& text) {
     return names;
 }
 
-// The Kd colours of a .mtl file's text (lines end at LF, CR or CRLF, as tinyobjloader reads
-// them): it reads a word that is not a number as 0 and takes 'Kd 0.5' as (0.5, 0, 0); texr
-// wants 3 numbers from 0 to max_color (scene.h) on every Kd line. And map_Kd lines without
-// texture options.
-void check_mtl_colors(const std::string& mtl, const std::string& text) {
+// A .mtl file's text, checked, for tinyobjloader to read (lines end at LF, CR or CRLF, as it
+// reads them). Its Kd colours: tinyobjloader reads a word that is not a number as 0 and takes
+// 'Kd 0.5' as (0.5, 0, 0); texr wants 1 number (a grey, as the MTL format reads it) or 3,
+// each from 0 to max_color (scene.h), on every Kd line, and hands tinyobjloader a grey as
+// 'Kd g g g' on the same line. And map_Kd lines without texture options.
+std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
     int line_number = 0;
     for (std::size_t start = 0; start < text.size();) {
         ++line_number;
         std::size_t end = text.find_first_of("\r\n", start);
         if (end == std::string::npos) end = text.size();
         std::string line = text.substr(start, end - start);
+        const std::size_t line_start = start;
         start = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+        out.append(text, line_start, std::min(start, text.size()) - line_start);
         line.erase(std::min(line.size(), line.find('#')));
         std::istringstream words(line);
         std::string keyword, word;
@@ -140,17 +146,22 @@ void check_mtl_colors(const std::string& mtl, const std::string& text) {
         if (keyword != "Kd") continue;
         int count = 0;
         bool good = true;
+        std::string grey;  // the first number
         while (words >> word) {
             const std::optional<double> value = number_in(word);
             good = good && value && *value >= 0.0 && *value <= max_color;
-            ++count;
+            if (count++ == 0) grey = word;
         }
-        if (!good || count != 3) {
+        if (!good || (count != 1 && count != 3)) {
             std::string shown = line.substr(line.find_first_not_of(" \t"));
             while (!shown.empty() && (shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
-            throw InputError(mtl, line_number, "Kd needs 3 numbers from 0 to " + max_color_text() + ", got '" + shown + "'");
+            throw InputError(mtl, line_number,
+                             "Kd needs 3 numbers (or 1, a grey) from 0 to " + max_color_text() + ", got '" + shown + "'");
         }
+        if (count == 1)  // the line as copied, up to its end of line, replaced by 'Kd g g g'
+            out.replace(out.size() - (std::min(start, text.size()) - line_start), end - line_start, "Kd " + grey + " " + grey + " " + grey);
     }
+    return out;
 }
 
 // The .mtl files tinyobjloader reads, opened next to the OBJ (its own reader takes ':' in
@@ -165,8 +176,7 @@ public:
         if (name.empty() || !in) return false;
         std::ostringstream text;
         text << in.rdbuf();
-        check_mtl_colors(path, text.str());
-        std::istringstream stream(text.str());
+        std::istringstream stream(checked_mtl_text(path, text.str()));
         tinyobj::LoadMtl(names, materials, &stream, warning, error);
         return true;
     }
@@ -190,7 +200,7 @@ ObjLines read_obj_lines(const std::string& path) {
     const char* const what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};  // by part of a corner
     const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
     std::string line;
-    for (int line_number = 1; std::getline(in, line); ++line_number) {
+    for (int line_number = 1; read_text_line(in, line); ++line_number) {
         const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
         if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3), out.clean = true;  // a byte order mark
         const std::size_t comment = line.find('#');  // (with or without a space before it)
@@ -229,8 +239,7 @@ ObjLines read_obj_lines(const std::string& path) {
             // (tinyobjloader skips a file an earlier mtllib line loaded, and tries the next.)
             std::string names;
             bool found = false;
-            std::string rest = i < line.size() ? line.substr(i + 1) : std::string();
-            if (!rest.empty() && rest.back() == '\r') rest.pop_back();  // (tinyobjloader drops a line's CR)
+            const std::string rest = i < line.size() ? line.substr(i + 1) : std::string();
             for (const std::string& name : mtllib_names(rest)) {
                 if (name.empty()) continue;
                 const std::string mtl = folder_of(path) + name;

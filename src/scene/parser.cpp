@@ -17,6 +17,7 @@
 
 #include "texr/core/error.h"
 #include "texr/core/path.h"
+#include "texr/core/text_line.h"
 #include "texr/core/scaling.h"
 #include "texr/scene/obj_mesh.h"
 
@@ -79,12 +80,11 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
     Line line;  // the command being read
     int number = 0;
     bool continuing = false;  // the line before ended with '\\'
-    while (std::getline(in, raw)) {
+    while (read_text_line(in, raw)) {
         ++number;
         if (number == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);  // a UTF-8 byte order mark
         // (A NUL would cut every message that quotes the line short.)
         if (raw.find('\0') != std::string::npos) throw InputError(file, number, "a NUL byte: is this a scene file?");
-        if (!raw.empty() && raw.back() == '\r') raw.pop_back();
         raw = without_comment(raw);  // a '\\' inside a comment does not continue the line
         while (!raw.empty() && (raw.back() == ' ' || raw.back() == '\t')) raw.pop_back();
         const bool continued = !raw.empty() && raw.back() == '\\';
