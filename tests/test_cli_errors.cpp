@@ -988,6 +988,34 @@ TEST_CASE("scene, OBJ and .mtl files with lines ended by CRLF or by CR alone ren
     }
 }
 
+TEST_CASE("an OBJ line that ends in '\\' continues on the next: the same picture, errors at the continued line's first line") {
+    const std::string dir = scratch_folder("obj-continued");
+    write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    // Two triangles of two materials and a quad (two triangles more), with and without
+    // continued lines; the continued version's '\\' at the ends of words, after blanks, in a
+    // mtllib and a usemtl line; a '\\' in a comment does not continue its line.
+    write_text(dir + "/t.mtl", "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n");
+    const std::string plain = "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                              "usemtl red\nf 1 2 3\nusemtl blue\nf 4 5 6 7\n";
+    write_text(dir + "/t.obj", plain);
+    REQUIRE(run_texr("render " + dir + "/scene.txt --size 96x72 -o " + dir + "/plain.ppm").exit_code == 0);
+    const std::string continued = "mtllib \\\n t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0\\\n1 0 # a comment \\\nv -1 -1 -1\nv 1 -1 -1\n"
+                                  "v 1 1 -1\nv -1 1 -1\nusemtl red\nf 1 \\ \n 2 \\\n\t3\nusemtl\\\n blue\nf 4 5 6 7";
+    write_text(dir + "/t.obj", continued);
+    RunResult r = run_texr("render " + dir + "/scene.txt --size 96x72 -o " + dir + "/continued.ppm");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(read_file(dir + "/continued.ppm") == read_file(dir + "/plain.ppm"));
+    // Errors: at the first line of a continued line, and at its own line after one.
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 \\\n x \\\n 0\nv 0 1 0\nf 1 2 3\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.obj:2: expected a number after 'v', got 'x'\n");
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 \\\n -1 \\\n 0\nv 0 1 0\nf 1 2 4\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output.rfind("texr: " + dir + "/scene.txt:2: " + dir + "/t.obj:6: ", 0) == 0);
+    CHECK(!file_exists(dir + "/out.png"));
+}
+
 TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with every line ending") {
     // (tinyobjloader alone would read 'Kd 0.25' as (0.25, 0, 0).)
     const std::string dir = scratch_folder("kd-grey");

@@ -44,8 +44,9 @@ std::string first_line(const std::string& text) {
 //    k - 2 triangles, as tinyobjloader triangulates it), as an index into `names`: the name
 //    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader);
 //  - whether tinyobjloader needs the file's text without its comments (it takes the '#' of
-//    'f 1 2 3 # a comment' for an index) and without a UTF-8 byte order mark (which it
-//    would read as part of the first keyword): `clean`.
+//    'f 1 2 3 # a comment' for an index), without a UTF-8 byte order mark (which it would
+//    read as part of the first keyword) and with continued lines joined (it does not join
+//    them): `clean`.
 // A bad line throws InputError with the OBJ file and line. Lines are split by hand: a string
 // stream per line made this pass slower than tinyobjloader's own parse.
 struct ObjLines {
@@ -55,16 +56,45 @@ struct ObjLines {
     std::vector<std::string> material_files;  // the .mtl files read
 };
 
-// The file's lines without their comments and byte order mark, one line for each line of the
-// file (so tinyobjloader's line numbers stay right).
+// One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
+// UTF-8 byte order mark), and joined with the lines after it while it ends in '\\' (the OBJ
+// format's continued line; a '\\' in a comment does not continue it), each '\\' read as a
+// space.
+struct ObjLine {
+    std::string text;
+    int taken = 0;         // the file's lines it took
+    bool cleaned = false;  // a byte order mark, a comment after words, or a '\\' removed
+};
+bool read_obj_line(std::istream& in, bool first, ObjLine& line) {
+    line.text.clear(), line.taken = 0, line.cleaned = false;
+    std::string part;
+    while (read_text_line(in, part)) {
+        if (first && line.taken == 0 && part.rfind("\xEF\xBB\xBF", 0) == 0) part.erase(0, 3), line.cleaned = true;
+        ++line.taken;
+        const std::size_t comment = part.find('#');  // (with or without a space before it)
+        if (comment != std::string::npos) {
+            line.cleaned = line.cleaned || part.find_first_not_of(" \t") < comment;  // after something
+            part.erase(comment);
+        }
+        const std::size_t last = part.find_last_not_of(" \t\v\f");
+        if (last != std::string::npos && part[last] == '\\') {
+            line.text.append(part, 0, last) += ' ';
+            line.cleaned = true;
+            continue;
+        }
+        line.text += part;
+        return true;
+    }
+    return line.taken > 0;  // (a last line that ends in '\\')
+}
+
+// The file's lines as read_obj_line reads them, each followed by as many line ends as it
+// took lines of the file (so tinyobjloader's line numbers stay right).
 std::string text_without_comments(const std::string& path) {
     std::ifstream in(path);
-    std::string text, line;
-    for (bool first = true; read_text_line(in, line); first = false) {
-        if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
-        text.append(line, 0, line.find('#'));
-        text += '\n';
-    }
+    std::string text;
+    ObjLine line;
+    for (bool first = true; read_obj_line(in, first, line); first = false) text.append(line.text).append(std::size_t(line.taken), '\n');
     return text;
 }
 
@@ -199,15 +229,12 @@ ObjLines read_obj_lines(const std::string& path) {
     std::set<std::string> mtl_loaded;  // .mtl names an mtllib line has loaded
     const char* const what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};  // by part of a corner
     const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
-    std::string line;
-    for (int line_number = 1; read_text_line(in, line); ++line_number) {
+    ObjLine read;
+    // (line_number: the first of the lines a continued line takes, where its errors are told)
+    for (int line_number = 1; read_obj_line(in, line_number == 1, read); line_number += read.taken) {
         const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
-        if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3), out.clean = true;  // a byte order mark
-        const std::size_t comment = line.find('#');  // (with or without a space before it)
-        if (comment != std::string::npos) {
-            out.clean = out.clean || line.find_first_not_of(" \t") < comment;  // after something
-            line.erase(comment);
-        }
+        out.clean = out.clean || read.cleaned;
+        const std::string& line = read.text;
         std::size_t i = 0;
         const auto next_word = [&] {  // the word at i, and i past it
             while (i < line.size() && space(line[i])) ++i;
