@@ -2015,6 +2015,36 @@ TEST_CASE("a zero camera up vector and a number with a no-break space get messag
     CHECK_FALSE(file_exists(dir + "/a.png"));
 }
 
+TEST_CASE("words a message quotes from a scene or OBJ file show control bytes as \\xNN and are cut after 64 bytes") {
+    const std::string dir = scratch_folder("shown-words");
+    const std::string triangle = "triangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1";
+    // A terminal's escape codes (colour, clear screen) and bytes that are not UTF-8.
+    write_text(dir + "/esc.txt", "camera eye 0 0 3\n\x1b[31mfoo\n" + triangle + "\n");
+    RunResult r = run_texr("render " + dir + "/esc.txt -o " + dir + "/a.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.rfind("texr: " + dir + "/esc.txt:2: unknown command '\\x1B[31mfoo' (expected ", 0) == 0);
+    write_text(dir + "/esc.txt", "camera eye 0 0 3\n" + triangle + " material m\x1b[2J\xff\n");
+    r = run_texr("render " + dir + "/esc.txt -o " + dir + "/a.png");
+    CHECK(r.output.rfind("texr: " + dir + "/esc.txt:2: unknown material 'm\\x1B[2J\\xFF' (define it", 0) == 0);
+    // A long word: its first 64 bytes, then "...".
+    const std::string name(3000, 'm');
+    write_text(dir + "/long.txt", "camera eye 0 0 3\n" + triangle + " material " + name + "\n");
+    r = run_texr("render " + dir + "/long.txt -o " + dir + "/a.png");
+    CHECK(r.output == "texr: " + dir + "/long.txt:2: unknown material '" + name.substr(0, 64) +
+                          "...' (define it with a 'material' line first)\n");
+    write_text(dir + "/t.obj", "v 0 0 1\nv 1 0 " + std::string(100, '7') + "x\nv 0 1 0\nf 1 2 3\n");
+    write_text(dir + "/obj.txt", "camera eye 0 0 3\nmesh t.obj\n");
+    r = run_texr("render " + dir + "/obj.txt -o " + dir + "/a.png");
+    CHECK(r.output == "texr: " + dir + "/obj.txt:2: " + dir + "/t.obj:2: expected a number after 'v', got '" + std::string(64, '7') + "...'\n");
+    CHECK_FALSE(file_exists(dir + "/a.png"));
+    // texr explain names a material the same way.
+    write_text(dir + "/named.txt", "camera eye 0 0 3\nmaterial m\x1b[2J color 1 0 0\n" + triangle + " material m\x1b[2J\n");
+    r = run_texr("explain " + dir + "/named.txt 320 240");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("material 'm\\x1B[2J'") != std::string::npos);
+    CHECK(r.output.find('\x1b') == std::string::npos);
+}
+
 TEST_CASE("a map_Kd line with texture options is refused at its .mtl line, as texr would draw the image without them") {
     const std::string dir = scratch_folder("mapkd-options");
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3\n");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "texr/core/error.h"
 #include "texr/core/scaling.h"
 #include "texr/texture/ewa.h"
 #include "texr/texture/lookup.h"
@@ -226,7 +227,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     const Material& m = scene.materials[std::size_t(e.material)];
     const Mesh& mesh = scene.meshes[std::size_t(scene.objects[std::size_t(e.object)].mesh)];
     out += "front-most triangle: object " + std::to_string(e.object) + " (" + mesh.source + "), triangle " +
-           std::to_string(e.triangle) + ", material '" + m.name + "'" + (e.clipped ? "; clipped, this is one piece\n" : "\n");
+           std::to_string(e.triangle) + ", material " + shown_token(m.name) + (e.clipped ? "; clipped, this is one piece\n" : "\n");
     out += "  what the material needs per pixel: " + describe(needs_of(m, scene)) + "\n";
 
     out += "\n1. Screen vertices S (pixels, snapped to 1/256) and q = 1/w at each:\n";
@@ -284,7 +285,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                               d.dudx, d.dvdx, d.dudy, d.dvdy);
             }
         }
-        out += "\n5. Texture '" + t.name + "' (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
+        out += "\n5. Texture " + shown_token(t.name) + " (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
                filter_name(t.sampler.filter) + ", wrap " + wrap_name(t.sampler.wrap_u) + "/" + wrap_name(t.sampler.wrap_v) +
                ", " + (t.sampler.registration == Registration::cell ? "cell" : "node") + " registration):\n";
         const auto wrapped = [](Wrap mode, double c) {

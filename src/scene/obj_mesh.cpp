@@ -170,7 +170,7 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
             while (words >> word)
                 for (const char* option : options)
                     if (word == option)
-                        throw InputError(mtl, line_number, "map_Kd option '" + word + "' is not supported (texr reads the image alone): remove it");
+                        throw InputError(mtl, line_number, "map_Kd option " + shown_token(word) + " is not supported (texr reads the image alone): remove it");
             continue;
         }
         if (keyword != "Kd") continue;
@@ -186,7 +186,7 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
             std::string shown = line.substr(line.find_first_not_of(" \t"));
             while (!shown.empty() && (shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
             throw InputError(mtl, line_number,
-                             "Kd needs 3 numbers (or 1, a grey) from 0 to " + max_color_text() + ", got '" + shown + "'");
+                             "Kd needs 3 numbers (or 1, a grey) from 0 to " + max_color_text() + ", got " + shown_token(shown));
         }
         if (count == 1)  // the line as copied, up to its end of line, replaced by 'Kd g g g'
             out.replace(out.size() - (std::min(start, text.size()) - line_start), end - line_start, "Kd " + grey + " " + grey + " " + grey);
@@ -247,11 +247,11 @@ ObjLines read_obj_lines(const std::string& path) {
             int count = 0;
             for (std::string_view word = next_word(); !word.empty(); word = next_word(), ++count) {
                 const std::optional<double> value = number_in(word);
-                if (!value) fail("expected a number after '" + std::string(keyword) + "', got " + shown_token(std::string(word)));
-                if (!std::isfinite(*value)) fail("expected a finite number, got '" + std::string(word) + "'");
+                if (!value) fail("expected a number after " + shown_token(std::string(keyword)) + ", got " + shown_token(std::string(word)));
+                if (!std::isfinite(*value)) fail("expected a finite number, got " + shown_token(std::string(word)));
                 // tinyobjloader keeps positions, normals and texture coordinates as floats.
                 if (!(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
-                    fail("'" + std::string(word) + "' is beyond a float's range (about 3.4e38)");
+                    fail(shown_token(std::string(word)) + " is beyond a float's range (about 3.4e38)");
             }
             if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");
             if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");
@@ -300,7 +300,7 @@ ObjLines read_obj_lines(const std::string& path) {
                 // At most two slashes, and none at the end ('1/', '1//' or '1/2/': a corner cut
                 // short, which tinyobjloader would read as index 0).
                 if (std::count(corner.begin(), corner.end(), '/') > 2 || corner.back() == '/')
-                    fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got '" + std::string(corner) + "'");
+                    fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got " + shown_token(std::string(corner)));
                 std::size_t start = 0;
                 for (int part = 0; part < 3 && start <= corner.size(); ++part) {
                     const std::size_t slash = std::min(corner.find('/', start), corner.size());
@@ -308,7 +308,7 @@ ObjLines read_obj_lines(const std::string& path) {
                     start = slash + 1;
                     if (word.empty() && part > 0) continue;  // v//vn, or no vt/vn at all
                     const std::optional<long long> index = index_in(word);
-                    if (!index || *index == 0) fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got '" + std::string(corner) + "'");
+                    if (!index || *index == 0) fail("expected a face corner (v, v/vt, v//vn or v/vt/vn), got " + shown_token(std::string(corner)));
                     const long long resolved = *index > 0 ? *index : defined[part] + 1 + *index;
                     if (resolved < 1) fail("face refers to a " + std::string(what[part]) + " that does not exist (" + std::string(word) + ")");
                     if (resolved > defined[part]) ahead.push_back({resolved, part, line_number});

@@ -122,7 +122,7 @@ public:
     const std::string& peek() const { return line_.tokens[next_]; }
 
     std::string word(const std::string& what) {
-        if (done()) fail("expected " + what + " after '" + line_.tokens[next_ - 1] + "'");
+        if (done()) fail("expected " + what + " after " + shown_token(line_.tokens[next_ - 1]));
         return line_.tokens[next_++];
     }
 
@@ -138,7 +138,7 @@ public:
     void once(const std::string& key) {
         for (const auto& [name, at] : options_)
             if (name == key)
-                fail("'" + key + "' is given a second time in this '" + line_.tokens[0] + "' command (first on line " +
+                fail(shown_token(key) + " is given a second time in this " + shown_token(line_.tokens[0]) + " command (first on line " +
                      std::to_string(line_of(at)) + "): give it once");
         options_.emplace_back(key, mark());
     }
@@ -164,7 +164,7 @@ public:
     float float_number(const std::string& expected, const std::string& what) {
         const double value = number(expected);
         if (!(std::fabs(value) <= double(std::numeric_limits<float>::max())))
-            fail(what + ": '" + line_.tokens[next_ - 1] + "' is beyond a float's range (about 3.4e38)");
+            fail(what + ": " + shown_token(line_.tokens[next_ - 1]) + " is beyond a float's range (about 3.4e38)");
         return float(value);
     }
     glm::vec3 float_vec3(const std::string& what) {
@@ -207,7 +207,7 @@ Enum choose(Cursor& c, const std::string& what, const std::map<std::string, Enum
     if (it != choices.end()) return it->second;
     std::string names;
     for (const auto& [name, value] : choices) names += (names.empty() ? "" : ", ") + name;
-    c.fail("unknown " + what + " '" + w + "' (expected one of: " + names + ")");
+    c.fail("unknown " + what + " " + shown_token(w) + " (expected one of: " + names + ")");
 }
 
 const std::map<std::string, Wrap> wrap_names = {
@@ -230,7 +230,7 @@ public:
         // camera merge its options with the first).
         if (name == "size" || name == "camera" || name == "background" || name == "ambient") {
             const auto [first, inserted] = settings_line_.emplace(name, line.number);
-            if (!inserted) c.fail("'" + name + "' is given a second time (first on line " + std::to_string(first->second) + ")");
+            if (!inserted) c.fail(shown_token(name) + " is given a second time (first on line " + std::to_string(first->second) + ")");
         }
         if (name == "size") size(c);
         else if (name == "camera") camera(c);
@@ -242,9 +242,9 @@ public:
         else if (name == "mesh") mesh(c);
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
-        else c.fail("unknown command '" + name +
-                    "' (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)");
-        if (!c.done()) c.fail("unexpected '" + c.peek() + "' at the end of '" + name + "'");
+        else c.fail("unknown command " + shown_token(name) +
+                    " (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)");
+        if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
 
 private:
@@ -275,7 +275,7 @@ private:
             else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees"), fov_at = c.mark();
             else if (key == "near") cam.near = c.number("the near distance"), near_at = c.mark();
             else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
-            else c.fail("unknown camera option '" + key + "' (expected eye, target, up, fov, near or far)");
+            else c.fail("unknown camera option " + shown_token(key) + " (expected eye, target, up, fov, near or far)");
         }
         if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
             std::ostringstream given;
@@ -305,7 +305,7 @@ private:
     void texture(Cursor& c) {
         Texture t;
         t.name = c.word("a texture name");
-        define_once(c, "texture '" + t.name + "'");
+        define_once(c, "texture " + shown_token(t.name));
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         std::size_t file_at = 0;
@@ -343,9 +343,9 @@ private:
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
             else if (key == "colorspace")
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
-            else c.fail("unknown texture option '" + key + "' (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
+            else c.fail("unknown texture option " + shown_token(key) + " (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
         }
-        if (t.path.empty()) c.fail("texture '" + t.name + "' needs 'file PATH'");
+        if (t.path.empty()) c.fail("texture " + shown_token(t.name) + " needs 'file PATH'");
         t.image = image(c, file_at, t.path, space);
         // The border colour is in the texels' space: sRGB for a colour image (decoded, as every
         // scene colour), the values themselves for data and HDR images, whose texels are read
@@ -397,9 +397,9 @@ private:
         m.name = c.word("a material name");
         const auto from_obj = material_from_obj_.find(m.name);
         if (from_obj != material_from_obj_.end())
-            c.fail("material '" + m.name + "' is already defined: line " + std::to_string(from_obj->second) +
+            c.fail("material " + shown_token(m.name) + " is already defined: line " + std::to_string(from_obj->second) +
                    "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
-        define_once(c, "material '" + m.name + "'");
+        define_once(c, "material " + shown_token(m.name));
         while (!c.done()) {
             const std::string key = c.word("a material option");
             c.once(key);
@@ -407,13 +407,13 @@ private:
             else if (key == "texture") {
                 const std::string name = c.word("a texture name");
                 auto it = texture_index_.find(name);
-                if (it == texture_index_.end()) c.fail("unknown texture '" + name + "' (define it with a 'texture' line first)");
+                if (it == texture_index_.end()) c.fail("unknown texture " + shown_token(name) + " (define it with a 'texture' line first)");
                 m.texture = it->second;
             } else if (key == "lighting")
                 m.lighting = choose<Lighting>(c, "lighting", {{"none", Lighting::none}, {"lambert", Lighting::lambert}});
             else if (key == "vertex_colors")
                 m.vertex_colors = choose<bool>(c, "vertex_colors setting", {{"on", true}, {"off", false}});
-            else c.fail("unknown material option '" + key + "' (expected color, texture, lighting or vertex_colors)");
+            else c.fail("unknown material option " + shown_token(key) + " (expected color, texture, lighting or vertex_colors)");
         }
         material_index_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
@@ -431,14 +431,14 @@ private:
             const std::string key = c.word("a light option");
             c.once(key);
             if (key == "color") l.color = c.color("light colour");
-            else c.fail("unknown light option '" + key + "' (expected color)");
+            else c.fail("unknown light option " + shown_token(key) + " (expected color)");
         }
         scene_.lights.push_back(l);
     }
 
     int material_named(Cursor& c, const std::string& name) {
         auto it = material_index_.find(name);
-        if (it == material_index_.end()) c.fail("unknown material '" + name + "' (define it with a 'material' line first)");
+        if (it == material_index_.end()) c.fail("unknown material " + shown_token(name) + " (define it with a 'material' line first)");
         return it->second;
     }
 
@@ -484,7 +484,7 @@ private:
         while (!c.done()) {
             const std::string key = c.word("a mesh option");
             if (!object_option(c, key, object, material, material_at))
-                c.fail("unknown mesh option '" + key + "' (expected material, cull, translate, rotate or scale)");
+                c.fail("unknown mesh option " + shown_token(key) + " (expected material, cull, translate, rotate or scale)");
         }
         // Each OBJ material is the scene material of the same name, else made from its .mtl.
         bool resolver_failed = false;  // its messages already name this line
@@ -530,7 +530,7 @@ private:
             Texture t;
             t.name = info.name + ".map_Kd";
             t.path = info.diffuse_texture;
-            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material '" + info.name + "' (map_Kd in its .mtl): ");
+            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material " + shown_token(info.name) + " (map_Kd in its .mtl): ");
             t.mipmap = mipmap(t.image, t.sampler);
             m.texture = int(scene_.textures.size());
             scene_.textures.push_back(std::move(t));
@@ -562,7 +562,7 @@ private:
                 v.uv = {c.number("the vertex u"), c.number("the vertex v")};
                 mesh.vertices.push_back(v);
             } else if (key == "n" || key == "c") {
-                if (mesh.vertices.empty()) c.fail("'" + key + "' belongs after a vertex 'v x y z u v'");
+                if (mesh.vertices.empty()) c.fail(shown_token(key) + " belongs after a vertex 'v x y z u v'");
                 if (key == "n") {
                     if (last_with_normal == int(mesh.vertices.size())) c.fail("a second normal 'n' for one vertex");
                     last_with_normal = int(mesh.vertices.size());
@@ -578,7 +578,7 @@ private:
                     mesh.has_colors = true, ++colors_given;
                 }
             } else if (!object_option(c, key, object, material, material_at)) {
-                c.fail("unknown " + what + " option '" + key + "' (expected v, n, c, material, cull, translate, rotate or scale)");
+                c.fail("unknown " + what + " option " + shown_token(key) + " (expected v, n, c, material, cull, translate, rotate or scale)");
             }
         }
         if (int(mesh.vertices.size()) != corners)
@@ -613,8 +613,8 @@ private:
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
             if (m.texture >= 0 && !mesh.has_uv)
-                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material '" + m.name + "' uses texture '" +
-                       scene_.textures[std::size_t(m.texture)].name + "'");
+                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material " + shown_token(m.name) + " uses texture " +
+                       shown_token(scene_.textures[std::size_t(m.texture)].name));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));

@@ -2,6 +2,7 @@
 // file, an impossible option. It names the file and line (when there is one) so the
 // message alone tells the user what to fix.
 #pragma once
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -29,11 +30,14 @@ private:
 };
 
 // A token in quotes, as a message shows it: bytes that are not printable ASCII (a no-break
-// space pasted from a web page, a tab inside a token, UTF-8) are written as \xNN, so that a
-// token that looks right but is not shows why.
+// space pasted from a web page, a tab inside a token, UTF-8, a terminal's escape codes) are
+// written as \xNN, so that a token that looks right but is not shows why, and a token of
+// more than shown_token_bytes bytes is cut there and ends in "..." (a message stays a line).
+constexpr std::size_t shown_token_bytes = 64;
 inline std::string shown_token(const std::string& token) {
     std::string out = "'";
-    for (const unsigned char ch : token) {
+    const bool cut = token.size() > shown_token_bytes;
+    for (const unsigned char ch : token.substr(0, cut ? shown_token_bytes : token.size())) {
         if (ch >= 0x20 && ch < 0x7f) {
             out += char(ch);
         } else {
@@ -43,7 +47,7 @@ inline std::string shown_token(const std::string& token) {
             out += digits[ch & 15];
         }
     }
-    return out + "'";
+    return out + (cut ? "...'" : "'");
 }
 
 // Refuses a path that names a folder or a device rather than a file (`kind`: "an OBJ file"):
