@@ -1041,6 +1041,41 @@ TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with e
     CHECK(r.output.find("material colour (0.75000, 0.75000, 0.75000)") != std::string::npos);
 }
 
+TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.md links its frames, and scenes without a texture are refused") {
+    const std::string dir = scratch_folder("bench-index");
+    REQUIRE(run_texr("bench filters --quick --out " + dir).exit_code == 0);
+    REQUIRE(run_texr("bench spans --quick --out " + dir).exit_code == 0);
+    const std::string index = read_file(dir + "/index.md");
+    CAPTURE(index);
+    CHECK(index.find("- [filters](filters.md): ") != std::string::npos);
+    CHECK(index.find("(from an earlier run: its targets are not in targets.md)") != std::string::npos);
+    CHECK(index.find("- [spans](spans.md): ") != std::string::npos);
+    CHECK(index.find("threads") == std::string::npos);
+    // Every frame filters.md links is there: 2 scenes x (8 filters + the ground truth).
+    const std::string md = read_file(dir + "/filters.md");
+    int links = 0;
+    for (std::size_t at = md.find("](filters-"); at != std::string::npos; at = md.find("](filters-", at + 1), ++links)
+        CHECK(file_exists(dir + "/" + md.substr(at + 2, md.find(')', at) - at - 2)));
+    CHECK(links == 18);
+    // Models whose benchmark scene draws nothing with a texture: one message, and no folder.
+    const std::string models = scratch_folder("bench-models");
+    std::system(("mkdir -p " + models + "/bench").c_str());
+    const std::string untextured = "camera eye 0 0 3\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1\n";
+    write_text(models + "/bench/plane.scene", untextured);
+    write_text(models + "/bench/grazing.scene", untextured);
+    for (const char* name : {"filters", "spans", "threads", "scale"}) {
+        const RunResult r = run_texr(std::string("bench ") + name + " --quick --models " + models + " --out " + models + "/out");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output == "texr: " + models + "/bench/plane.scene: no object of this benchmark scene is drawn with a texture (texr bench times and scores texture filtering)\n");
+        CHECK_FALSE(file_exists(models + "/out"));
+    }
+    const RunResult missing = run_texr("bench --quick --models " + models + "/none --out " + models + "/out");
+    CHECK(missing.exit_code == 1);
+    CHECK_FALSE(file_exists(models + "/out"));
+    CHECK(run_texr("bench --out ''").exit_code == 2);
+}
+
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {
     const std::string dir = scratch_folder("bench");
     const RunResult r = run_texr("bench --quick --out " + dir);

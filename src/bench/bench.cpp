@@ -3,6 +3,7 @@
 #include "texr/bench/bench.h"
 
 #include <algorithm>
+#include <fstream>
 #include <stdexcept>
 
 #include "common.h"
@@ -92,7 +93,10 @@ int run_bench(const std::vector<std::string>& args) {
         else if (a == "--threads") o.threads = parse_int(value(), "--threads", 256), o.threads_given = true;
         else if (a == "--spp") o.spp = parse_int(value(), "--spp", 64, 2), spp_given = true;
         else if (a == "--models") o.models = value();
-        else if (a == "--out") o.out = value();
+        else if (a == "--out") {
+            o.out = value();
+            if (o.out.empty()) throw std::invalid_argument("--out needs a folder");
+        }
         else if (a == "--quick") o.quick = true;
         else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") {
             if (std::find(names.begin(), names.end(), a) == names.end()) names.push_back(a);  // each runs once
@@ -105,24 +109,38 @@ int run_bench(const std::vector<std::string>& args) {
         if (!size_given) o.width = 256, o.height = 192;
     }
     if (names.empty()) names = {"filters", "spans", "threads", "scale"};
+    // The scenes are checked before anything is written (threads and scale read the plane).
+    load_bench_scene(o, "plane");
+    for (const std::string& name : names)
+        if (name == "filters" || name == "spans") {
+            load_bench_scene(o, "grazing");
+            break;
+        }
     make_folders(o.out);
-    std::string index = "# texr benchmarks\n\n";
     std::vector<Target> targets;
     const auto checked = [&](std::vector<Target> more) { targets.insert(targets.end(), more.begin(), more.end()); };
     for (const std::string& name : names) {
-        if (name == "filters") {
-            checked(run_filters(o));
-            index += "- [filters](filters.md): every texture filter, time against error ([csv](filters.csv), [plot](filters.svg))\n";
-        } else if (name == "spans") {
-            checked(run_spans(o));
-            index += "- [spans](spans.md): span modes, time against texture coordinate error ([csv](spans.csv), [plot](spans.svg))\n";
-        } else if (name == "threads") {
-            checked(run_threads(o));
-            index += "- [threads](threads.md): nearest, bilinear, trilinear and EWA on 1 and 2 threads ([csv](threads.csv), [plot](threads.svg))\n";
-        } else if (name == "scale") {
-            checked(run_scale(o));
-            index += "- [scale](scale.md): time and memory as triangles, pixels and texture size grow ([csv](scale.csv), [plot](scale.svg))\n";
-        }
+        if (name == "filters") checked(run_filters(o));
+        else if (name == "spans") checked(run_spans(o));
+        else if (name == "threads") checked(run_threads(o));
+        else if (name == "scale") checked(run_scale(o));
+    }
+    // The index lists this run's benchmarks, and those an earlier run left in the folder
+    // (a run of some of them leaves the others' files), saying so.
+    const struct {
+        const char* name;
+        const char* what;
+    } listed[] = {{"filters", "every texture filter, time against error"},
+                  {"spans", "span modes, time against texture coordinate error"},
+                  {"threads", "nearest, bilinear, trilinear and EWA on 1 and 2 threads"},
+                  {"scale", "time and memory as triangles, pixels and texture size grow"}};
+    std::string index = "# texr benchmarks\n\n";
+    for (const auto& b : listed) {
+        const std::string name = b.name;
+        const bool this_run = std::find(names.begin(), names.end(), name) != names.end();
+        if (!this_run && !std::ifstream(o.out + "/" + name + ".md")) continue;
+        index += "- [" + name + "](" + name + ".md): " + b.what + " ([csv](" + name + ".csv), [plot](" + name + ".svg))" +
+                 (this_run ? "" : " (from an earlier run: its targets are not in targets.md)") + "\n";
     }
     index += "- [targets](targets.md): the issues' targets, checked against this run\n";
     write_text_file(o.out + "/targets.md", "# texr bench: targets\n\n" + targets_markdown(targets));

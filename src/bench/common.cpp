@@ -9,6 +9,7 @@
 
 #include "texr/core/error.h"
 #include "texr/io/frame_writer.h"
+#include "texr/scene/parser.h"
 
 namespace texr::bench {
 
@@ -22,6 +23,15 @@ std::vector<bool> covered(const Framebuffer& fb) {
     std::vector<bool> mask(fb.depth.size());
     for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = fb.drawn(i);
     return mask;
+}
+
+Scene load_bench_scene(const BenchOptions& o, const std::string& name) {
+    const std::string path = o.models + "/bench/" + name + ".scene";
+    Scene scene = load_scene(path);
+    for (const Object& object : scene.objects)
+        for (const int m : scene.meshes[std::size_t(object.mesh)].triangle_material)
+            if (scene.materials[std::size_t(m)].texture >= 0) return scene;
+    throw InputError(path, 0, "no object of this benchmark scene is drawn with a texture (texr bench times and scores texture filtering)");
 }
 
 void make_folders(const std::string& path) {

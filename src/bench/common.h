@@ -47,6 +47,10 @@ struct TimedCase {
     double median_ms = 0.0;
 };
 void time_interleaved(std::vector<TimedCase>& cases, int repeat);
+// The benchmark scene o.models/bench/NAME.scene ("plane" or "grazing"), loaded; throws
+// InputError if none of its objects is drawn with a texture (each benchmark times and scores
+// texture filtering, so such a scene would measure nothing).
+Scene load_bench_scene(const BenchOptions& o, const std::string& name);
 // The pixels a frame's surfaces cover.
 std::vector<bool> covered(const Framebuffer& fb);
 // Makes the folder and its parents; throws InputError naming the one that cannot be made,

@@ -26,9 +26,8 @@ struct FilterRow {
 std::vector<FilterRow> bench_filters(const BenchOptions& o) {
     std::vector<FilterRow> rows;
     for (const std::string name : {"plane", "grazing"}) {
-        const std::string path = o.models + "/bench/" + name + ".scene";
         const auto load_start = Clock::now();
-        const Scene base = load_scene(path);
+        const Scene base = load_bench_scene(o, name);
         const double load_ms = ms_since(load_start);
         double mip_ms = 0.0, decode_ms = 0.0;
         for (const Texture& t : base.textures) {
@@ -107,6 +106,15 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
               " ms and decoding the texels for the blending filters " + fixed(rows.front().decode_ms, 1) +
               " ms (first scene) are not part of the frame times. PSNR and SSIM are measured on the covered pixels "
               "against " + std::to_string(o.spp) + "x" + std::to_string(o.spp) + " supersampling.\n";
+    // The frames the run wrote, each scene's ground truth first.
+    std::string frames;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const FilterRow& r = rows[i];
+        if (i == 0 || rows[i - 1].scene != r.scene)
+            frames += std::string(i == 0 ? "" : "\n") + "- " + r.scene + ": [ground truth](filters-" + r.scene + "-truth.png)";
+        frames += ", [" + r.filter + "](filters-" + r.scene + "-" + r.filter + ".png)";
+    }
+    if (!frames.empty()) md += "\nThe frames:\n\n" + frames + "\n";
     write_text_file(o.out + "/filters.csv", csv);
     write_text_file(o.out + "/filters.md", md);
     PlotAxes axes;

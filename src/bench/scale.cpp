@@ -148,12 +148,11 @@ std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
     const int threads = o.threads_given ? o.threads : usable_cores();
     std::vector<ScaleRow> rows;
     const double fb_bytes_per_pixel = sizeof(Color) + sizeof(float);
-    const std::string plane_path = o.models + "/bench/plane.scene";
     // Triangles: a terrain of 10^4 .. 10^6 triangles at 1920x1080.
     const std::vector<int> grids = o.quick ? std::vector<int>{71} : std::vector<int>{71, 224, 708};
     for (int k : grids) {
         rows.push_back(in_child([&] {
-            Scene scene = load_scene(plane_path);
+            Scene scene = load_bench_scene(o, "plane");
             for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;
             scene.meshes = {terrain(k)};
             scene.objects = {Object{0, glm::dmat4(1.0), false}};
@@ -177,7 +176,7 @@ std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
         o.quick ? std::vector<std::pair<int, int>>{{640, 480}} : std::vector<std::pair<int, int>>{{640, 480}, {1920, 1080}, {3840, 2160}};
     for (auto [w, h] : frames) {
         rows.push_back(in_child([&, w = w, h = h] {
-            Scene scene = load_scene(plane_path);
+            Scene scene = load_bench_scene(o, "plane");
             for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;
             RenderOptions options;
             options.width = w, options.height = h, options.threads = threads;
@@ -193,7 +192,7 @@ std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
     const std::vector<int> textures = o.quick ? std::vector<int>{1024} : std::vector<int>{1024, 4096, 8192};
     for (int size : textures) {
         rows.push_back(in_child([&] {
-            Scene scene = load_scene(plane_path);
+            Scene scene = load_bench_scene(o, "plane");
             for (Texture& t : scene.textures) {
                 t.image = procedural_texture(size);
                 t.mipmap = std::make_shared<MipMap>(t.image);

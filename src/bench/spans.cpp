@@ -22,7 +22,7 @@ struct SpanRow {
 std::vector<SpanRow> bench_spans(const BenchOptions& o) {
     std::vector<SpanRow> rows;
     for (const std::string name : {"plane", "grazing"}) {
-        Scene scene = load_scene(o.models + "/bench/" + name + ".scene");
+        Scene scene = load_bench_scene(o, name);
         for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;  // the span cost, not a filter's, dominates
         const double texture_w = scene.textures.at(0).mipmap->base().width();
         const double texture_h = scene.textures.at(0).mipmap->base().height();

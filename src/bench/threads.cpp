@@ -25,7 +25,7 @@ struct ThreadRow {
 std::vector<ThreadRow> bench_threads(const BenchOptions& o) {
     std::vector<int> thread_counts = {1, 2};
     if (usable_cores() > 2) thread_counts.push_back(usable_cores());
-    const Scene base = load_scene(o.models + "/bench/plane.scene");
+    const Scene base = load_bench_scene(o, "plane");
     for (const Texture& t : base.textures) t.mipmap->build();
     // Every configuration (filter x thread count) is timed in interleaved rounds
     // (time_interleaved), so that a slow spell of the host falls on the 1-thread and the
