@@ -166,6 +166,8 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("bad-camera", "camera near 5 far 1\n" + good_scene, "scene.txt:1: camera needs 0 < near < far");
     expect_failure("no-objects", "size 32 24\n", "scene has no objects");
     expect_failure("continuation", good_scene + "quad \\\n", "scene.txt:5: line ends with '\\'");
+    // (told at the line whose '\\' the file's end leaves open)
+    expect_failure("continuation-end", good_scene + "quad \\\n v 0 0 0 0 0 \\\n", "scene.txt:6: line ends with '\\' but the file ends there");
     // A command continued over several lines: the message names the line of the bad word.
     const std::string quad = "quad \\\n  v -1 -1 0 0 0 \\\n  v 1 -1 0 1 0 \\\n  v 1 1 0 1 1";
     expect_failure("continued-value", good_scene + quad + " \\\n  v -1 1 0 x 1\n", "scene.txt:9: expected the vertex u, found 'x'");
@@ -626,17 +628,18 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     std::string out = explain("repeat");
     CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
     CHECK(out.find("v = v'/q = 0.2421875") != std::string::npos);
-    CHECK(out.find("subtracted 100 from the triangle's u and -3 from its v") != std::string::npos);
-    CHECK(out.find("In the scene's\n    coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
+    CHECK(out.find("moved the triangle's u by -100 and its v by +3, whole periods") != std::string::npos);
+    CHECK(out.find("In the\n    scene's coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
     // Mirror's period is 2: u loses 100, v loses -4.
     out = explain("mirror");
     CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
     CHECK(out.find("v = v'/q = 1.2421875") != std::string::npos);
+    CHECK(out.find("moved the triangle's u by -100 and its v by +4, whole periods") != std::string::npos);
     CHECK(out.find("coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
     // Clamp is not periodic: nothing is re-based, and nothing is said.
     out = explain("clamp");
     CHECK(out.find("u = u'/q = 100.2578125 ") != std::string::npos);
-    CHECK(out.find("subtracted") == std::string::npos);
+    CHECK(out.find("moved the triangle's") == std::string::npos);
 }
 
 TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {
@@ -1213,6 +1216,13 @@ TEST_CASE("texr explain with --size or --span and no value says the value is mis
         CHECK(r.exit_code == 2);
         CHECK(r.output.find(std::string(option) + " needs a value") != std::string::npos);
     }
+    // An argument too many is named; too few say what is needed.
+    RunResult r = run_texr("explain " + source_path("models/plane.scene") + " 1 2 3");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("texr explain takes SCENE X Y; '3' is one too many") != std::string::npos);
+    r = run_texr("explain " + source_path("models/plane.scene") + " 1");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("texr explain needs SCENE X Y") != std::string::npos);
 }
 
 TEST_CASE("a command-line option given twice is refused, and nothing is written") {

@@ -48,11 +48,11 @@ const char* explain_help =
     "\n"
     "Renders SCENE (nothing is written) and explains pixel (X, Y), column X from the left and\n"
     "row Y from the top: the front-most triangle covering its centre, the triangle's inverse\n"
-    "homography M^-1 = U diag(1/w) adj(S) and forward M, (u', v', q) at the pixel centre,\n"
-    "u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip levels the\n"
-    "texture's filter reads and its value, the shading (material colour, vertex colour, the\n"
-    "normal and each light), and the colour written. --size, --span and --span-tolerance are\n"
-    "render's (the other render options do not apply): with a --span mode\n"
+    "homography M^-1 = U diag(1/w) adj(S) / det(S) and forward M, (u', v', q) at the pixel\n"
+    "centre, u = u'/q and v = v'/q, the exact derivatives, the level of detail, the mip\n"
+    "levels the texture's filter reads and its value, the shading (material colour, vertex\n"
+    "colour, the normal and each light), and the colour written. --size, --span and\n"
+    "--span-tolerance are render's (the other render options do not apply): with a --span mode\n"
     "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
     "exact derivatives taken there, and explain says by how much they differ.\n";
 
@@ -352,6 +352,7 @@ int run_explain(const std::vector<std::string>& argv) {
             positional.push_back(argv[i]);
         }
     }
+    if (positional.size() > 3) throw UsageError{"texr explain takes SCENE X Y; '" + positional[3] + "' is one too many"};
     if (positional.size() != 3) throw UsageError{"texr explain needs SCENE X Y (try texr explain --help)"};
     options.insert(options.begin(), positional[0]);
     options.push_back("-o");

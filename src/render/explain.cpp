@@ -255,10 +255,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
     if (e.uv_shift != glm::dvec2(0.0))
-        out += format("    (the setup subtracted %.17g from the triangle's u and %.17g from its v, whole periods of\n"
-                      "    the wrap mode, to keep their precision; the texture reads the same. In the scene's\n"
-                      "    coordinates u = %.10g, v = %.10g)\n",
-                      e.uv_shift.x, e.uv_shift.y, exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
+        out += format("    (the setup moved the triangle's u by %+.17g and its v by %+.17g, whole periods of the\n"
+                      "    wrap mode, so that the smallest u and the smallest v of its corners lie within one period\n"
+                      "    from 0: far from 0 they would lose precision; the texture reads the same. In the\n"
+                      "    scene's coordinates u = %.10g, v = %.10g)\n",
+                      0.0 - e.uv_shift.x, 0.0 - e.uv_shift.y, exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
     out += span_mode_words(e.span_mode);
     const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
     out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
@@ -328,7 +329,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         std::uint64_t texels = 0;
         texel = lookup(t, u, v, d, texels);
         out += format("    the filter's value, linear RGBA: (%.5f, %.5f, %.5f, %.5f)", texel.x, texel.y, texel.z, texel.w) +
-               format(" from %.0f texel reads\n", double(texels));
+               format(" from %.0f texel read", double(texels)) + (texels == 1 ? "\n" : "s\n");
     }
     out += shading(e, scene, m, texel, q);
     out += format("\n7. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)", e.depth, e.color.x, e.color.y, e.color.z) +

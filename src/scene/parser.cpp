@@ -98,7 +98,7 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
         if (continued) continue;
         if (!line.tokens.empty()) lines.push_back(std::move(line));
     }
-    if (continuing) throw InputError(file, line.number, "line ends with '\\' but the file ends there");
+    if (continuing) throw InputError(file, number, "line ends with '\\' but the file ends there");
     return lines;
 }
 

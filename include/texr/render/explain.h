@@ -1,5 +1,5 @@
 // texr explain: the story of one pixel, step by step as the lecture tells it: which
-// triangle covers it, the triangle's homography M^-1 = U diag(1/w) adj(S) and its inverse M,
+// triangle covers it, the triangle's homography M^-1 = U diag(1/w) adj(S) / det(S) and its inverse M,
 // (u', v', q) at the pixel centre, u = u'/q and v = v'/q, the exact derivatives, the level
 // of detail, the mip levels the texture's filter reads and its value, the shading (material
 // colour, vertex colour, normal, each light), and the colour written.
