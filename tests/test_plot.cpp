@@ -47,6 +47,10 @@ TEST_CASE("plot tick texts are short: plain between 1e-3 and 1e5, powers of ten 
     CHECK(tick_text(1e-12) == "1e-12");
     CHECK(tick_text(2e-5) == "2e-5");
     CHECK(tick_text(-2e6) == "-2e6");
+    // An axis's ticks share one form: all in the exponent form where one of them needs it.
+    CHECK(tick_texts({10000.0, 20000.0, 50000.0, 1e5, 2e5}) == std::vector<std::string>{"1e4", "2e4", "5e4", "1e5", "2e5"});
+    CHECK(tick_texts({0.0, 0.0005, 0.001}) == std::vector<std::string>{"0", "5e-4", "1e-3"});
+    CHECK(tick_texts({200.0, 500.0, 1000.0}) == std::vector<std::string>{"200", "500", "1000"});
 }
 
 TEST_CASE("plot labels overlap no other label or point and stay inside the plot") {

@@ -79,10 +79,15 @@ std::vector<double> axis_ticks(double lo, double hi, bool log) {
     }
 }
 
-std::string tick_text(double v) {
+namespace {
+bool exponent_form(double v) {
+    const double a = std::fabs(v);
+    return a != 0.0 && (a >= 1e5 || a < 1e-3);
+}
+std::string tick_text_in(double v, bool exponent) {
     char buffer[48];
     const double a = std::fabs(v);
-    if (a != 0.0 && (a >= 1e5 || a < 1e-3)) {
+    if (a != 0.0 && exponent) {
         int e = int(std::floor(std::log10(a)));
         double m = v / std::pow(10.0, e);
         if (std::fabs(m) >= 9.9995) m /= 10.0, ++e;  // (rounding may carry into the next power)
@@ -91,6 +96,16 @@ std::string tick_text(double v) {
     }
     std::snprintf(buffer, sizeof buffer, "%.6g", v);
     return buffer;
+}
+}  // namespace
+
+std::string tick_text(double v) { return tick_text_in(v, exponent_form(v)); }
+
+std::vector<std::string> tick_texts(const std::vector<double>& ticks) {
+    const bool exponent = std::any_of(ticks.begin(), ticks.end(), exponent_form);
+    std::vector<std::string> texts;
+    for (const double t : ticks) texts.push_back(tick_text_in(t, exponent));
+    return texts;
 }
 
 std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& points) {
@@ -128,17 +143,21 @@ std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& poin
     svg += "<text x=\"" + coordinate(width / 2) + "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">" + escape(axes.title) + "</text>\n";
     // Grid lines and ticks at round values.
     const auto to_data = [](double axis, bool log) { return log ? std::pow(10.0, axis) : axis; };
-    for (double t : axis_ticks(to_data(y0, axes.log_y), to_data(y1, axes.log_y), axes.log_y)) {
-        const double y = sy(t);
+    const std::vector<double> y_ticks = axis_ticks(to_data(y0, axes.log_y), to_data(y1, axes.log_y), axes.log_y);
+    const std::vector<std::string> y_texts = tick_texts(y_ticks);
+    for (std::size_t i = 0; i < y_ticks.size(); ++i) {
+        const double y = sy(y_ticks[i]);
         svg += "<line x1=\"" + coordinate(left) + "\" x2=\"" + coordinate(left + plot_w) + "\" y1=\"" + coordinate(y) + "\" y2=\"" +
                coordinate(y) + "\" stroke=\"#ddd\"/>\n";
-        svg += "<text x=\"" + coordinate(left - 6) + "\" y=\"" + coordinate(y + 4) + "\" text-anchor=\"end\">" + tick_text(t) + "</text>\n";
+        svg += "<text x=\"" + coordinate(left - 6) + "\" y=\"" + coordinate(y + 4) + "\" text-anchor=\"end\">" + y_texts[i] + "</text>\n";
     }
-    for (double t : axis_ticks(to_data(x0, axes.log_x), to_data(x1, axes.log_x), axes.log_x)) {
-        const double x = sx(t);
+    const std::vector<double> x_ticks = axis_ticks(to_data(x0, axes.log_x), to_data(x1, axes.log_x), axes.log_x);
+    const std::vector<std::string> x_texts = tick_texts(x_ticks);
+    for (std::size_t i = 0; i < x_ticks.size(); ++i) {
+        const double x = sx(x_ticks[i]);
         svg += "<line x1=\"" + coordinate(x) + "\" x2=\"" + coordinate(x) + "\" y1=\"" + coordinate(top) + "\" y2=\"" +
                coordinate(top + plot_h) + "\" stroke=\"#ddd\"/>\n";
-        svg += "<text x=\"" + coordinate(x) + "\" y=\"" + coordinate(top + plot_h + 18) + "\" text-anchor=\"middle\">" + tick_text(t) +
+        svg += "<text x=\"" + coordinate(x) + "\" y=\"" + coordinate(top + plot_h + 18) + "\" text-anchor=\"middle\">" + x_texts[i] +
                "</text>\n";
     }
     svg += "<rect x=\"" + coordinate(left) + "\" y=\"" + coordinate(top) + "\" width=\"" + coordinate(plot_w) + "\" height=\"" +

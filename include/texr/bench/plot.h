@@ -32,6 +32,9 @@ struct PlotAxes {
 std::vector<double> axis_ticks(double lo, double hi, bool log);
 // A tick's text: "0.02", "200", "20000"; from 10^5 on and below 10^-3 as "2e5", "1e-12".
 std::string tick_text(double v);
+// An axis's tick texts: as tick_text, but all in the "2e4" form (0 stays "0") where one of
+// them takes it, so that an axis does not read "20000, 50000, 1e5".
+std::vector<std::string> tick_texts(const std::vector<double>& ticks);
 
 // Labels are 12-pixel text: about this wide per character, for placing them apart.
 constexpr double plot_label_char_width = 7.0;
