@@ -589,6 +589,7 @@ TEST_CASE("texr explain names the texels nearest and bilinear read, their fracti
     CHECK(out.find("on the wrapped t_u): texel (1, 1) (row 0 is the image's bottom),\n    linear RGBA (0.00000, 0.00000, 1.00000, 1.00000)") !=
           std::string::npos);
     CHECK(out.find("sRGB bytes (0, 0, 255)") != std::string::npos);
+    CHECK(out.find("linear RGBA: (0.00000, 0.00000, 1.00000, 1.00000) from 1 texel read\n") != std::string::npos);
     // The UVs times 8 (repeat): u resU = 8.25 and v resV = 15.75, column 8 and row 15 before
     // the wrap, column 0 and row 3 (red) after it: the slide's min(floor(t_u resU), resU - 1)
     // on the wrapped t_u = 0.0625, t_v = 0.9375.
@@ -629,7 +630,7 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
     CHECK(out.find("v = v'/q = 0.2421875") != std::string::npos);
     CHECK(out.find("moved the triangle's u by -100 and its v by +3, whole periods") != std::string::npos);
-    CHECK(out.find("In the\n    scene's coordinates u = 100.2578125, v = -2.7578125") != std::string::npos);
+    CHECK(out.find("In the scene's coordinates u = 100.2578125, v = -2.7578125)") != std::string::npos);
     // Mirror's period is 2: u loses 100, v loses -4.
     out = explain("mirror");
     CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);
@@ -640,6 +641,12 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     out = explain("clamp");
     CHECK(out.find("u = u'/q = 100.2578125 ") != std::string::npos);
     CHECK(out.find("moved the triangle's") == std::string::npos);
+    // Only v far from 0: only v is said to move.
+    write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm wrap repeat\n"
+                                   "material m texture t\nquad material m v -2 -2 -2 0 -3 v 2 -2 -2 1 -3 v 2 2 -2 1 -2 v -2 2 -2 0 -2\n");
+    out = run_texr("explain " + dir + "/scene.txt 16 48").output;
+    CHECK(out.find("(the setup moved the triangle's v by +3, whole periods") != std::string::npos);
+    CHECK(out.find("In the scene's coordinates u = 0.2578125, v = -2.7578125)") != std::string::npos);
 }
 
 TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {
@@ -923,14 +930,24 @@ TEST_CASE("a .mtl Kd that is not 3 numbers (or 1) from 0 to 10000 is refused at 
     const std::string dir = scratch_folder("kd");
     write_text(dir + "/t.obj", "mtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh t.obj\n");
-    for (const std::string kd : {"-0.5 0 0", "0.2 1e30 0.2", "0 0 10001", "nan 0.5 0.5", "1 x 1", "0.5 0.5", "0.1 0.2 0.3 0.4", "-1",
-                                 "x", "spectral paint.rfl", "xyz 0.5 0.5 0.5"}) {
-        write_text(dir + "/t.mtl", "# paint\nnewmtl paint\n  Kd " + kd + "\n");
+    struct Case {
+        std::string kd, message;
+    };
+    const std::string out_of_range = "Kd needs numbers from 0 to 10000, got ";
+    for (const Case& k : {Case{"-0.5 0 0", out_of_range + "'-0.5'"}, Case{"0.2 1e30 0.2", out_of_range + "'1e30'"},
+                          Case{"0 0 10001", out_of_range + "'10001'"}, Case{"nan 0.5 0.5", out_of_range + "'nan'"},
+                          Case{"1 x 1", out_of_range + "'x'"}, Case{"-1", out_of_range + "'-1'"}, Case{"x", out_of_range + "'x'"},
+                          Case{"spectral paint.rfl", out_of_range + "'spectral'"}, Case{"xyz 0.5 0.5 0.5", out_of_range + "'xyz'"},
+                          // the bad word is named however long the line
+                          Case{"0.123456789012345678 0.123456789012345678 0.123456789012345678 x", out_of_range + "'x'"},
+                          Case{"0.5 0.5", "Kd needs 3 numbers (or 1, a grey), got 2"},
+                          Case{"0.1 0.2 0.3 0.4", "Kd needs 3 numbers (or 1, a grey), got 4"}, Case{"", "Kd needs 3 numbers (or 1, a grey), got 0"}}) {
+        write_text(dir + "/t.mtl", "# paint\nnewmtl paint\n  Kd " + k.kd + "\n");
         std::remove((dir + "/out.png").c_str());
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(r.output);
         CHECK(r.exit_code == 1);
-        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:3: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd " + kd + "'\n");
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:3: " + k.message + "\n");
         CHECK(!file_exists(dir + "/out.png"));
     }
     // The ends of the range render.
@@ -940,12 +957,12 @@ TEST_CASE("a .mtl Kd that is not 3 numbers (or 1) from 0 to 10000 is refused at 
     // and a second file on a line whose first an earlier mtllib line loaded (it skips that one).
     write_text(dir + "/t.mtl", "newmtl paint\rKd 0.5 0\r");
     RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:2: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 0.5 0'\n");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:2: Kd needs 3 numbers (or 1, a grey), got 2\n");
     write_text(dir + "/t.mtl", "newmtl paint\nKd 0 1 0\n");
     write_text(dir + "/b.mtl", "newmtl paint\nKd 0.5 0\n");
     write_text(dir + "/t.obj", "mtllib t.mtl\nmtllib t.mtl b.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/b.mtl:2: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 0.5 0'\n");
+    CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/b.mtl:2: Kd needs 3 numbers (or 1, a grey), got 2\n");
     // An OBJ in a folder whose name holds ':' finds its .mtl beside it.
     std::system(("mkdir -p '" + dir + "/a:b'").c_str());
     write_text(dir + "/a:b/t.mtl", "newmtl paint\nKd 0 0 1\n");
@@ -984,7 +1001,7 @@ TEST_CASE("scene, OBJ and .mtl files with lines ended by CRLF or by CR alone ren
         write_text(dir + "/t.obj", ended("# t\nmtllib t.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n", eol));
         write_text(dir + "/t.mtl", ended("newmtl a\n# b\nKd 1 1\n", eol));
         CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").output ==
-              "texr: " + dir + "/scene.txt:4: " + dir + "/t.mtl:3: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 1 1'\n");
+              "texr: " + dir + "/scene.txt:4: " + dir + "/t.mtl:3: Kd needs 3 numbers (or 1, a grey), got 2\n");
         write_text(dir + "/scene.txt", ended("# a\ncamera eye 0 0 3\n\nbackground 1 2\n", eol));
         CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").output.rfind("texr: " + dir + "/scene.txt:4: ", 0) == 0);
         CHECK(!file_exists(dir + "/out.png"));
@@ -1017,6 +1034,28 @@ TEST_CASE("an OBJ line that ends in '\\' continues on the next: the same picture
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
     CHECK(r.output.rfind("texr: " + dir + "/scene.txt:2: " + dir + "/t.obj:6: ", 0) == 0);
     CHECK(!file_exists(dir + "/out.png"));
+    // tinyobjloader's own errors (a joint weight texr does not check) keep the file's line
+    // numbers after a continued line.
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 \\\n -1 \\\n 0\nv 0 1 0\nvw 0 -1 0.5\nf 1 2 3\n");
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+    CHECK(r.output.rfind("texr: " + dir + "/scene.txt:2: " + dir + "/t.obj: not a readable OBJ file: ", 0) == 0);
+    CHECK(r.output.find("line 6.") != std::string::npos);
+    // A file with no comment, whose only change for tinyobjloader is the joined line (a tab
+    // after the '\\' still continues it), and the same without the '\\'.
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
+    REQUIRE(run_texr("render " + dir + "/scene.txt --size 96x72 -o " + dir + "/one.ppm").exit_code == 0);
+    write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 \\\t\n2 3\n");
+    r = run_texr("render " + dir + "/scene.txt --size 96x72 -o " + dir + "/joined.ppm");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(read_file(dir + "/joined.ppm") == read_file(dir + "/one.ppm"));
+    // A '\\' on the file's last line is refused at that line, as in scene files.
+    for (const std::string end : {"f 1 2 3 \\", "f 1 2 \\\n3 \\\n"}) {
+        write_text(dir + "/t.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\n" + end);
+        r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.obj:" + (end.size() > 10 ? "5" : "4") +
+                              ": line ends with '\\' but the file ends there\n");
+    }
 }
 
 TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with every line ending") {
@@ -1028,7 +1067,6 @@ TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with e
         write_text(dir + "/t.obj", "mtllib t.mtl" + eol + "v -1 -1 0" + eol + "v 1 -1 0" + eol + "v 0 1 0" + eol + "usemtl grey" + eol +
                                        "f 1 2 3" + eol + "v -1 -1 -1" + eol + "v 1 -1 -1" + eol + "v 0 1 -1" + eol + "usemtl red" + eol +
                                        "f 4 5 6" + eol);
-        // The grey's line keeps its place: the line after it is still line 4 of the file.
         write_text(dir + "/t.mtl", "newmtl grey" + eol + "  Kd\t0.25 # a grey" + eol + "newmtl red" + eol + "Kd 1 0 0" + eol);
         RunResult r = run_texr("explain " + dir + "/scene.txt 320 240");
         CAPTURE(r.output);
@@ -1036,12 +1074,17 @@ TEST_CASE("a .mtl Kd of one number is a grey, as the MTL format reads it, with e
         CHECK(r.output.find("material colour (0.25000, 0.25000, 0.25000)") != std::string::npos);
         write_text(dir + "/t.mtl", "newmtl grey" + eol + "Kd 0.25" + eol + "newmtl red" + eol + "Kd 1 0" + eol);
         r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:4: Kd needs 3 numbers (or 1, a grey) from 0 to 10000, got 'Kd 1 0'\n");
+        CHECK(r.output == "texr: " + dir + "/scene.txt:2: " + dir + "/t.mtl:4: Kd needs 3 numbers (or 1, a grey), got 2\n");
     }
     // The last line without an end of line.
     write_text(dir + "/t.mtl", "newmtl grey\nKd 0.75");
-    const RunResult r = run_texr("explain " + dir + "/scene.txt 320 240");
+    RunResult r = run_texr("explain " + dir + "/scene.txt 320 240");
     CHECK(r.output.find("material colour (0.75000, 0.75000, 0.75000)") != std::string::npos);
+    // A .mtl that starts with a UTF-8 byte order mark keeps its first material (tinyobjloader
+    // alone would read the mark as part of 'newmtl', and drop it).
+    write_text(dir + "/t.mtl", "\xEF\xBB\xBFnewmtl grey\nKd 0.5 0.25 1\n");
+    r = run_texr("explain " + dir + "/scene.txt 320 240");
+    CHECK(r.output.find("material colour (0.50000, 0.25000, 1.00000)") != std::string::npos);
 }
 
 TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.md links its frames, and scenes without a texture are refused") {
@@ -1050,10 +1093,16 @@ TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.
     REQUIRE(run_texr("bench spans --quick --out " + dir).exit_code == 0);
     const std::string index = read_file(dir + "/index.md");
     CAPTURE(index);
-    CHECK(index.find("- [filters](filters.md): ") != std::string::npos);
-    CHECK(index.find("(from an earlier run: its targets are not in targets.md)") != std::string::npos);
-    CHECK(index.find("- [spans](spans.md): ") != std::string::npos);
+    const auto line_of = [&](const std::string& name) {
+        const std::size_t at = index.find("- [" + name + "](" + name + ".md): ");
+        return at == std::string::npos ? std::string() : index.substr(at, index.find('\n', at) - at);
+    };
+    CHECK(line_of("filters").find("(from an earlier run: its targets are not in targets.md)") != std::string::npos);
+    CHECK(line_of("spans") != "");
+    CHECK(line_of("spans").find("earlier run") == std::string::npos);
     CHECK(index.find("threads") == std::string::npos);
+    // The spans plot says where an error of 0 (the exact mode's) is drawn.
+    CHECK(read_file(dir + "/spans.svg").find("exact (error 0)") != std::string::npos);
     // Every frame filters.md links is there: 2 scenes x (8 filters + the ground truth).
     const std::string md = read_file(dir + "/filters.md");
     int links = 0;
@@ -1073,9 +1122,21 @@ TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.
         CHECK(r.output == "texr: " + models + "/bench/plane.scene: no object of this benchmark scene is drawn with a texture (texr bench times and scores texture filtering)\n");
         CHECK_FALSE(file_exists(models + "/out"));
     }
-    const RunResult missing = run_texr("bench --quick --models " + models + "/none --out " + models + "/out");
-    CHECK(missing.exit_code == 1);
+    // A texture defined but drawn by no object is refused too; threads and scale read the
+    // plane alone, and take a grazing scene without a texture.
+    const std::string textured = "camera eye 0 0 3\ntexture t file " + source_path("models/textures/checker.png") +
+                                 "\nmaterial m texture t\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1 material m\n";
+    write_text(models + "/bench/plane.scene", "texture t file " + source_path("models/textures/checker.png") + "\n" + untextured);
+    CHECK(run_texr("bench threads --quick --models " + models + " --out " + models + "/out").exit_code == 1);
     CHECK_FALSE(file_exists(models + "/out"));
+    write_text(models + "/bench/plane.scene", textured);
+    CHECK(run_texr("bench threads --quick --models " + models + " --out " + models + "/out").exit_code == 0);
+    const RunResult filters = run_texr("bench filters --quick --models " + models + " --out " + models + "/out");
+    CHECK(filters.exit_code == 1);
+    CHECK(filters.output.find(models + "/bench/grazing.scene: no object") != std::string::npos);
+    const RunResult missing = run_texr("bench --quick --models " + models + "/none --out " + models + "/out2");
+    CHECK(missing.exit_code == 1);
+    CHECK_FALSE(file_exists(models + "/out2"));
     CHECK(run_texr("bench --out ''").exit_code == 2);
 }
 
@@ -2082,6 +2143,25 @@ TEST_CASE("words a message quotes from a scene or OBJ file show control bytes as
     r = run_texr("render " + dir + "/obj.txt -o " + dir + "/a.png");
     CHECK(r.output == "texr: " + dir + "/obj.txt:2: " + dir + "/t.obj:2: expected a number after 'v', got '" + std::string(64, '7') + "...'\n");
     CHECK_FALSE(file_exists(dir + "/a.png"));
+    // A word of exactly 64 bytes is shown whole.
+    write_text(dir + "/long.txt", "camera eye 0 0 3\n" + triangle + " material " + name.substr(0, 64) + "\n");
+    r = run_texr("render " + dir + "/long.txt -o " + dir + "/a.png");
+    CHECK(r.output == "texr: " + dir + "/long.txt:2: unknown material '" + name.substr(0, 64) + "' (define it with a 'material' line first)\n");
+    // Names keep their UTF-8 characters; control bytes (C0 and C1) and bytes that are not
+    // UTF-8 are escaped; keywords and numbers escape every byte that is not ASCII.
+    write_text(dir + "/utf8.txt", "camera eye 0 0 3\n" + triangle + " material gr\xC3\xBCn\xC2\x9B\xC3\n");
+    r = run_texr("render " + dir + "/utf8.txt -o " + dir + "/a.png");
+    CHECK(r.output.rfind("texr: " + dir + "/utf8.txt:2: unknown material 'gr\xC3\xBCn\\xC2\\x9B\\xC3' (define it", 0) == 0);
+    write_text(dir + "/utf8.txt", "camera eye 0 0 3\n" + triangle + " gr\xC3\xBCn\n");
+    r = run_texr("render " + dir + "/utf8.txt -o " + dir + "/a.png");
+    CHECK(r.output.rfind("texr: " + dir + "/utf8.txt:2: unknown triangle option 'gr\\xC3\\xBCn' (expected", 0) == 0);
+    // Paths: control bytes escaped, UTF-8 kept, wherever a message names the file.
+    write_text(dir + "/path.txt", "camera eye 0 0 3\nmesh \"a\x1b[2J\xC3\xA9.obj\"\n");
+    r = run_texr("render " + dir + "/path.txt -o " + dir + "/a.png");
+    CHECK(r.output == "texr: " + dir + "/path.txt:2: " + dir + "/a\\x1B[2J\xC3\xA9.obj: cannot open OBJ file\n");
+    write_text(dir + "/t.obj", "mtllib a\x1b[31m.mtl\nv 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    r = run_texr("render " + dir + "/obj.txt -o " + dir + "/a.png");
+    CHECK(r.output == "texr: " + dir + "/obj.txt:2: " + dir + "/t.obj:1: mtllib: cannot open " + dir + "/a\\x1B[31m.mtl\n");
     // texr explain names a material the same way.
     write_text(dir + "/named.txt", "camera eye 0 0 3\nmaterial m\x1b[2J color 1 0 0\n" + triangle + " material m\x1b[2J\n");
     r = run_texr("explain " + dir + "/named.txt 320 240");

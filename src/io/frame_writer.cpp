@@ -79,7 +79,7 @@ std::string written_path(const std::string& requested) {
     }
     struct stat info;
     if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode))
-        throw InputError(requested, 0, "cannot write output file: " + (path == requested ? std::string("it") : "its link's target " + path) +
+        throw InputError(requested, 0, "cannot write output file: " + (path == requested ? std::string("it") : "its link's target " + shown_path(path)) +
                                            " is a device or a pipe, not a file");
     return path;
 }

@@ -227,7 +227,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     const Material& m = scene.materials[std::size_t(e.material)];
     const Mesh& mesh = scene.meshes[std::size_t(scene.objects[std::size_t(e.object)].mesh)];
     out += "front-most triangle: object " + std::to_string(e.object) + " (" + mesh.source + "), triangle " +
-           std::to_string(e.triangle) + ", material " + shown_token(m.name) + (e.clipped ? "; clipped, this is one piece\n" : "\n");
+           std::to_string(e.triangle) + ", material " + shown_name(m.name) + (e.clipped ? "; clipped, this is one piece\n" : "\n");
     out += "  what the material needs per pixel: " + describe(needs_of(m, scene)) + "\n";
 
     out += "\n1. Screen vertices S (pixels, snapped to 1/256) and q = 1/w at each:\n";
@@ -254,12 +254,15 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += "\n3. At the pixel centre, from the plane equations:\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
-    if (e.uv_shift != glm::dvec2(0.0))
-        out += format("    (the setup moved the triangle's u by %+.17g and its v by %+.17g, whole periods of the\n"
-                      "    wrap mode, so that the smallest u and the smallest v of its corners lie within one period\n"
-                      "    from 0: far from 0 they would lose precision; the texture reads the same. In the\n"
-                      "    scene's coordinates u = %.10g, v = %.10g)\n",
-                      0.0 - e.uv_shift.x, 0.0 - e.uv_shift.y, exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
+    if (e.uv_shift != glm::dvec2(0.0)) {  // (only the coordinates that moved are named)
+        const std::string moved = e.uv_shift.x != 0.0 && e.uv_shift.y != 0.0 ? format("u by %+.17g and its v by %+.17g", -e.uv_shift.x, -e.uv_shift.y)
+                                  : e.uv_shift.x != 0.0                   ? format("u by %+.17g", -e.uv_shift.x)
+                                                                          : format("v by %+.17g", -e.uv_shift.y);
+        out += "    (the setup moved the triangle's " + moved + ", whole periods of the wrap mode,\n" +
+               "    so that the corners' smallest value lies within one period from 0: far from 0 it would\n" +
+               "    lose precision; the texture reads the same. In the scene's coordinates" +
+               format(" u = %.10g, v = %.10g)\n", exact_u + e.uv_shift.x, exact_v + e.uv_shift.y);
+    }
     out += span_mode_words(e.span_mode);
     const UVDerivatives exact_d = uv_derivatives(e.h, exact_u, exact_v, q);
     out += "\n4. Exact derivatives by the quotient rule, du/dx = (du'/dx - u dq/dx) / q:\n";
@@ -286,7 +289,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                               d.dudx, d.dvdx, d.dudy, d.dvdy);
             }
         }
-        out += "\n5. Texture " + shown_token(t.name) + " (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
+        out += "\n5. Texture " + shown_name(t.name) + " (" + std::to_string(w) + "x" + std::to_string(h) + ", filter " +
                filter_name(t.sampler.filter) + ", wrap " + wrap_name(t.sampler.wrap_u) + "/" + wrap_name(t.sampler.wrap_v) +
                ", " + (t.sampler.registration == Registration::cell ? "cell" : "node") + " registration):\n";
         const auto wrapped = [](Wrap mode, double c) {

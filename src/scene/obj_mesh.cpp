@@ -62,11 +62,12 @@ struct ObjLines {
 // space.
 struct ObjLine {
     std::string text;
-    int taken = 0;         // the file's lines it took
-    bool cleaned = false;  // a byte order mark, a comment after words, or a '\\' removed
+    int taken = 0;             // the file's lines it took
+    bool cleaned = false;      // a byte order mark, a comment after words, or a '\\' removed
+    bool open_at_end = false;  // its last line ends in '\\', and the file there
 };
 bool read_obj_line(std::istream& in, bool first, ObjLine& line) {
-    line.text.clear(), line.taken = 0, line.cleaned = false;
+    line.text.clear(), line.taken = 0, line.cleaned = false, line.open_at_end = false;
     std::string part;
     while (read_text_line(in, part)) {
         if (first && line.taken == 0 && part.rfind("\xEF\xBB\xBF", 0) == 0) part.erase(0, 3), line.cleaned = true;
@@ -85,7 +86,8 @@ bool read_obj_line(std::istream& in, bool first, ObjLine& line) {
         line.text += part;
         return true;
     }
-    return line.taken > 0;  // (a last line that ends in '\\')
+    line.open_at_end = line.taken > 0;
+    return line.taken > 0;
 }
 
 // The file's lines as read_obj_line reads them, each followed by as many line ends as it
@@ -148,7 +150,9 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
     std::string out;
     out.reserve(text.size());
     int line_number = 0;
-    for (std::size_t start = 0; start < text.size();) {
+    // (a UTF-8 byte order mark, which tinyobjloader would read as part of the first keyword,
+    // left out)
+    for (std::size_t start = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0; start < text.size();) {
         ++line_number;
         std::size_t end = text.find_first_of("\r\n", start);
         if (end == std::string::npos) end = text.size();
@@ -175,19 +179,15 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
         }
         if (keyword != "Kd") continue;
         int count = 0;
-        bool good = true;
         std::string grey;  // the first number
         while (words >> word) {
             const std::optional<double> value = number_in(word);
-            good = good && value && *value >= 0.0 && *value <= max_color;
+            if (!value || !(*value >= 0.0 && *value <= max_color))
+                throw InputError(mtl, line_number, "Kd needs numbers from 0 to " + max_color_text() + ", got " + shown_token(word));
             if (count++ == 0) grey = word;
         }
-        if (!good || (count != 1 && count != 3)) {
-            std::string shown = line.substr(line.find_first_not_of(" \t"));
-            while (!shown.empty() && (shown.back() == ' ' || shown.back() == '\t')) shown.pop_back();
-            throw InputError(mtl, line_number,
-                             "Kd needs 3 numbers (or 1, a grey) from 0 to " + max_color_text() + ", got " + shown_token(shown));
-        }
+        if (count != 1 && count != 3)
+            throw InputError(mtl, line_number, "Kd needs 3 numbers (or 1, a grey), got " + std::to_string(count));
         if (count == 1)  // the line as copied, up to its end of line, replaced by 'Kd g g g'
             out.replace(out.size() - (std::min(start, text.size()) - line_start), end - line_start, "Kd " + grey + " " + grey + " " + grey);
     }
@@ -233,6 +233,8 @@ ObjLines read_obj_lines(const std::string& path) {
     // (line_number: the first of the lines a continued line takes, where its errors are told)
     for (int line_number = 1; read_obj_line(in, line_number == 1, read); line_number += read.taken) {
         const auto fail = [&](const std::string& message) { throw InputError(path, line_number, message); };
+        if (read.open_at_end)  // (as in scene files)
+            throw InputError(path, line_number + read.taken - 1, "line ends with '\\' but the file ends there");
         out.clean = out.clean || read.cleaned;
         const std::string& line = read.text;
         std::size_t i = 0;
@@ -276,7 +278,7 @@ ObjLines read_obj_lines(const std::string& path) {
                     fail("mtllib: " + std::string(e.what()));
                 }
                 if (mtl_loaded.count(name) > 0) { found = true; continue; }
-                names += (names.empty() ? "" : ", ") + mtl;
+                names += (names.empty() ? "" : ", ") + shown_path(mtl);
                 if (std::ifstream(mtl)) {
                     found = true;
                     mtl_loaded.insert(name);

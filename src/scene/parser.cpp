@@ -47,7 +47,7 @@ std::vector<std::string> tokenize(const std::string& text, const std::string& fi
     std::size_t i = 0;
     while (i < text.size()) {
         const char ch = text[i];
-        if (ch == ' ' || ch == '\t' || ch == '\r') { ++i; continue; }
+        if (ch == ' ' || ch == '\t') { ++i; continue; }
         if (ch == '#') break;
         std::string token;
         if (ch == '"') {
@@ -56,7 +56,7 @@ std::vector<std::string> tokenize(const std::string& text, const std::string& fi
             token = text.substr(i + 1, close - i - 1);
             i = close + 1;
         } else {
-            while (i < text.size() && text[i] != ' ' && text[i] != '\t' && text[i] != '\r' && text[i] != '#')
+            while (i < text.size() && text[i] != ' ' && text[i] != '\t' && text[i] != '#')
                 token += text[i++];
         }
         tokens.push_back(token);
@@ -305,7 +305,7 @@ private:
     void texture(Cursor& c) {
         Texture t;
         t.name = c.word("a texture name");
-        define_once(c, "texture " + shown_token(t.name));
+        define_once(c, "texture " + shown_name(t.name));
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         std::size_t file_at = 0;
@@ -345,7 +345,7 @@ private:
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
             else c.fail("unknown texture option " + shown_token(key) + " (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
         }
-        if (t.path.empty()) c.fail("texture " + shown_token(t.name) + " needs 'file PATH'");
+        if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH'");
         t.image = image(c, file_at, t.path, space);
         // The border colour is in the texels' space: sRGB for a colour image (decoded, as every
         // scene colour), the values themselves for data and HDR images, whose texels are read
@@ -373,7 +373,7 @@ private:
         } catch (const InputError& e) {
             c.fail_at(at, context + e.what());
         } catch (const std::bad_alloc&) {  // a huge image: say which
-            c.fail_at(at, context + path + ": out of memory reading the image");
+            c.fail_at(at, context + shown_path(path) + ": out of memory reading the image");
         }
     }
 
@@ -397,9 +397,9 @@ private:
         m.name = c.word("a material name");
         const auto from_obj = material_from_obj_.find(m.name);
         if (from_obj != material_from_obj_.end())
-            c.fail("material " + shown_token(m.name) + " is already defined: line " + std::to_string(from_obj->second) +
+            c.fail("material " + shown_name(m.name) + " is already defined: line " + std::to_string(from_obj->second) +
                    "'s OBJ file uses it, so the mesh made it (define scene materials before the meshes that use them)");
-        define_once(c, "material " + shown_token(m.name));
+        define_once(c, "material " + shown_name(m.name));
         while (!c.done()) {
             const std::string key = c.word("a material option");
             c.once(key);
@@ -407,7 +407,7 @@ private:
             else if (key == "texture") {
                 const std::string name = c.word("a texture name");
                 auto it = texture_index_.find(name);
-                if (it == texture_index_.end()) c.fail("unknown texture " + shown_token(name) + " (define it with a 'texture' line first)");
+                if (it == texture_index_.end()) c.fail("unknown texture " + shown_name(name) + " (define it with a 'texture' line first)");
                 m.texture = it->second;
             } else if (key == "lighting")
                 m.lighting = choose<Lighting>(c, "lighting", {{"none", Lighting::none}, {"lambert", Lighting::lambert}});
@@ -438,7 +438,7 @@ private:
 
     int material_named(Cursor& c, const std::string& name) {
         auto it = material_index_.find(name);
-        if (it == material_index_.end()) c.fail("unknown material " + shown_token(name) + " (define it with a 'material' line first)");
+        if (it == material_index_.end()) c.fail("unknown material " + shown_name(name) + " (define it with a 'material' line first)");
         return it->second;
     }
 
@@ -503,7 +503,7 @@ private:
             if (resolver_failed) throw;
             c.fail_at(path_at, e.what());
         } catch (const std::bad_alloc&) {  // a huge mesh: say which
-            c.fail_at(path_at, path + ": out of memory reading the OBJ file");
+            c.fail_at(path_at, shown_path(path) + ": out of memory reading the OBJ file");
         }
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         scene_.files.push_back(path);
@@ -530,7 +530,7 @@ private:
             Texture t;
             t.name = info.name + ".map_Kd";
             t.path = info.diffuse_texture;
-            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material " + shown_token(info.name) + " (map_Kd in its .mtl): ");
+            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material " + shown_name(info.name) + " (map_Kd in its .mtl): ");
             t.mipmap = mipmap(t.image, t.sampler);
             m.texture = int(scene_.textures.size());
             scene_.textures.push_back(std::move(t));
@@ -613,8 +613,8 @@ private:
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
             if (m.texture >= 0 && !mesh.has_uv)
-                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material " + shown_token(m.name) + " uses texture " +
-                       shown_token(scene_.textures[std::size_t(m.texture)].name));
+                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material " + shown_name(m.name) + " uses texture " +
+                       shown_name(scene_.textures[std::size_t(m.texture)].name));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));
