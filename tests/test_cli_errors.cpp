@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <sstream>
 #include <tuple>
 
 #include <stb_image_write.h>
@@ -16,6 +17,7 @@
 
 #include "helpers.h"
 #include "texr/core/color.h"
+#include "texr/core/text_line.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 #include "texr/texture/image.h"
@@ -970,6 +972,54 @@ TEST_CASE("a .mtl Kd that is not 3 numbers (or 1) from 0 to 10000 is refused at 
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh a:b/t.obj\n");
     r = run_texr("explain " + dir + "/scene.txt 320 240");
     CHECK(r.output.find("material colour (0.00000, 0.00000, 1.00000)") != std::string::npos);
+}
+
+TEST_CASE("TextLineReader ends lines at LF, CRLF and a CR alone, as a byte-by-byte reading does") {
+    const auto lines_of = [](const std::string& text) {
+        std::istringstream in(text);
+        texr::TextLineReader reader(in);
+        std::vector<std::string> lines;
+        for (std::string line; reader.next(line);) lines.push_back(line);
+        return lines;
+    };
+    using Lines = std::vector<std::string>;
+    CHECK(lines_of("") == Lines{});
+    CHECK(lines_of("a\nb") == Lines{"a", "b"});
+    CHECK(lines_of("a\r\nb\r\n") == Lines{"a", "b"});
+    CHECK(lines_of("a\rb\r") == Lines{"a", "b"});
+    CHECK(lines_of("a\r\r\nb") == Lines{"a", "", "b"});
+    CHECK(lines_of("\n\r\n\r") == Lines{"", "", ""});
+    CHECK(lines_of("a\n\rb\n\r\n") == Lines{"a", "", "b", ""});
+    // Against a byte-by-byte reading (the rule tinyobjloader follows: LF ends a line; CR
+    // ends it too, taking an LF right after it along; the text's end ends a line that has
+    // something in it), on every text of up to 8 bytes from 'a', CR and LF.
+    const auto by_bytes = [](const std::string& text) {
+        Lines lines;
+        std::string line;
+        bool open = false;
+        for (std::size_t i = 0; i < text.size(); ++i) {
+            if (text[i] == '\n' || text[i] == '\r') {
+                if (text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+                lines.push_back(line), line.clear(), open = false;
+            } else {
+                line += text[i], open = true;
+            }
+        }
+        if (open) lines.push_back(line);
+        return lines;
+    };
+    int texts = 0;
+    for (int length = 0; length <= 8; ++length) {
+        int count = 1;
+        for (int k = 0; k < length; ++k) count *= 3;
+        for (int code = 0; code < count; ++code, ++texts) {
+            std::string text;
+            for (int k = 0, c = code; k < length; ++k, c /= 3) text += "a\r\n"[c % 3];
+            CAPTURE(text);
+            CHECK(lines_of(text) == by_bytes(text));
+        }
+    }
+    CHECK(texts == 9841);
 }
 
 TEST_CASE("scene, OBJ and .mtl files with lines ended by CRLF or by CR alone render as with LF, and errors keep their lines") {

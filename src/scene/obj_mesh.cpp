@@ -66,34 +66,37 @@ struct ObjLine {
     bool cleaned = false;      // a byte order mark, a comment after words, or a '\\' removed
     bool open_at_end = false;  // its last line ends in '\\', and the file there
 };
-bool read_obj_line(std::istream& in, bool first, ObjLine& line) {
-    line.text.clear(), line.taken = 0, line.cleaned = false, line.open_at_end = false;
+bool read_obj_line(TextLineReader& in, bool first, ObjLine& line) {
+    line.taken = 0, line.cleaned = false, line.open_at_end = false;
+    std::string& text = line.text;  // (the first line read straight into it: most are the whole line)
     std::string part;
-    while (read_text_line(in, part)) {
-        if (first && line.taken == 0 && part.rfind("\xEF\xBB\xBF", 0) == 0) part.erase(0, 3), line.cleaned = true;
+    for (;;) {
+        const std::size_t start = line.taken == 0 ? 0 : text.size();  // where this line of the file begins in text
+        if (line.taken == 0) {
+            if (!in.next(text)) return false;
+        } else {
+            if (!in.next(part)) return line.open_at_end = true;
+            text += part;
+        }
+        if (first && line.taken == 0 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3), line.cleaned = true;
         ++line.taken;
-        const std::size_t comment = part.find('#');  // (with or without a space before it)
+        const std::size_t comment = text.find('#', start);  // (with or without a space before it)
         if (comment != std::string::npos) {
-            line.cleaned = line.cleaned || part.find_first_not_of(" \t") < comment;  // after something
-            part.erase(comment);
+            line.cleaned = line.cleaned || text.find_first_not_of(" \t", start) < comment;  // after something
+            text.erase(comment);
         }
-        const std::size_t last = part.find_last_not_of(" \t\v\f");
-        if (last != std::string::npos && part[last] == '\\') {
-            line.text.append(part, 0, last) += ' ';
-            line.cleaned = true;
-            continue;
-        }
-        line.text += part;
-        return true;
+        const std::size_t last = text.find_last_not_of(" \t\v\f");
+        if (last == std::string::npos || last < start || text[last] != '\\') return true;
+        text.erase(last) += ' ';
+        line.cleaned = true;
     }
-    line.open_at_end = line.taken > 0;
-    return line.taken > 0;
 }
 
 // The file's lines as read_obj_line reads them, each followed by as many line ends as it
 // took lines of the file (so tinyobjloader's line numbers stay right).
 std::string text_without_comments(const std::string& path) {
-    std::ifstream in(path);
+    std::ifstream file(path);
+    TextLineReader in(file);
     std::string text;
     ObjLine line;
     for (bool first = true; read_obj_line(in, first, line); first = false) text.append(line.text).append(std::size_t(line.taken), '\n');
@@ -216,7 +219,8 @@ private:
 };
 
 ObjLines read_obj_lines(const std::string& path) {
-    std::ifstream in(path);
+    std::ifstream file(path);
+    TextLineReader in(file);
     ObjLines out;
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;

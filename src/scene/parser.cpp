@@ -80,7 +80,8 @@ std::vector<Line> read_lines(std::istream& in, const std::string& file) {
     Line line;  // the command being read
     int number = 0;
     bool continuing = false;  // the line before ended with '\\'
-    while (read_text_line(in, raw)) {
+    TextLineReader text(in);
+    while (text.next(raw)) {
         ++number;
         if (number == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);  // a UTF-8 byte order mark
         // (A NUL would cut every message that quotes the line short.)

@@ -5,26 +5,37 @@
 
 namespace texr {
 
-// Reads the next line of `in` into `line`, without its end: LF, CRLF or a CR alone (the
-// three ends tinyobjloader takes in OBJ and .mtl files; texr's own checks must see the same
-// lines, and scene files take them too). False, with `line` empty, when no line is left.
-inline bool read_text_line(std::istream& in, std::string& line) {
-    line.clear();
-    if (!in) return false;
-    std::streambuf* const buffer = in.rdbuf();
-    for (;;) {
-        const int c = buffer->sbumpc();
-        if (c == std::char_traits<char>::eof()) {
-            in.setstate(std::ios::eofbit);
-            return !line.empty();
+// Reads a text's lines one by one, without their ends: LF, CRLF or a CR alone (the three
+// ends tinyobjloader takes in OBJ and .mtl files; texr's own checks must see the same lines,
+// and scene files take them too). The text is read up to each LF with std::getline (a file
+// of LF or CRLF lines, the usual ones, is read as fast as getline reads it), and what that
+// gives is split at its CRs.
+class TextLineReader {
+public:
+    explicit TextLineReader(std::istream& in) : in_(in) {}
+    // The next line into `line`; false, with `line` untouched, when no line is left.
+    bool next(std::string& line) {
+        if (at_ == std::string::npos) {
+            if (!std::getline(in_, chunk_)) return false;
+            at_ = 0;
         }
-        if (c == '\n') return true;
-        if (c == '\r') {
-            if (buffer->sgetc() == '\n') buffer->sbumpc();
-            return true;
+        const std::size_t cr = chunk_.find('\r', at_);
+        if (cr == std::string::npos) {
+            line.assign(chunk_, at_, std::string::npos);
+            at_ = std::string::npos;
+        } else {
+            line.assign(chunk_, at_, cr - at_);
+            // (a CR that ends the chunk ends this line alone: with the LF after it, CRLF, or
+            // with the end of the text)
+            at_ = cr + 1 == chunk_.size() ? std::string::npos : cr + 1;
         }
-        line += char(c);
+        return true;
     }
-}
+
+private:
+    std::istream& in_;
+    std::string chunk_;                   // the text up to the next LF
+    std::size_t at_ = std::string::npos;  // where its next line starts (npos: read another)
+};
 
 }  // namespace texr
