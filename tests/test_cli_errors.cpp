@@ -633,6 +633,11 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     CHECK(out.find("v = v'/q = 0.2421875") != std::string::npos);
     CHECK(out.find("moved the triangle's u by -100 and its v by +3, whole periods") != std::string::npos);
     CHECK(out.find("In the scene's coordinates u = 100.2578125, v = -2.7578125)") != std::string::npos);
+    // The lattice coordinates of the 2 x 2 texture, of both: 0.2578125 x 2 - 1/2 = 0.015625
+    // and 0.2421875 x 2 - 1/2 = -0.015625; 100.2578125 x 2 - 1/2 = 200.015625 and
+    // -2.7578125 x 2 - 1/2 = -6.015625.
+    CHECK(out.find("x = u resU - 1/2 = 0.0156,\n    y = v resV - 1/2 = -0.0156\n") != std::string::npos);
+    CHECK(out.find("of the scene's, x = 200.0156 and y = -6.0156: whole periods apart") != std::string::npos);
     // Mirror's period is 2: u loses 100, v loses -4.
     out = explain("mirror");
     CHECK(out.find("u = u'/q = 0.2578125 ") != std::string::npos);

@@ -314,6 +314,12 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                            : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (resU - 1) = %.4f,\n"
                              "    y = v (resV - 1) = %.4f\n",
                       lx, ly);
+        if (e.uv_shift != glm::dvec2(0.0)) {  // (step 3's re-based u and v: whole periods from the scene's)
+            const double su = u + e.uv_shift.x, sv = v + e.uv_shift.y;
+            out += format("    (of the re-based u and v; of the scene's, x = %.4f and y = %.4f: whole periods apart, the same\n"
+                          "    texels after wrapping)\n",
+                          cell ? su * w - 0.5 : su * (w - 1), cell ? sv * h - 0.5 : sv * (h - 1));
+        }
         out += base_taps(t, u, v);
         // The footprint in texels of the lattice: node registration counts node spacings.
         const LatticeSize lattice = lattice_size(t.mipmap->base(), t.sampler);
