@@ -17,8 +17,8 @@
 
 #include "texr/core/error.h"
 #include "texr/core/path.h"
-#include "texr/core/text_line.h"
 #include "texr/core/scaling.h"
+#include "texr/core/text_line.h"
 #include "texr/scene/obj_mesh.h"
 
 namespace texr {
