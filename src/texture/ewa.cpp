@@ -83,12 +83,11 @@ struct EwaEllipse {
     double a = d1v * d1v + d2v * d2v + 1.0;
     double b = -2.0 * (d1u * d1v + d2u * d2v);
     double c = d1u * d1u + d2u * d2u + 1.0;
+    // Bounding box of the ellipse: |s| <= sqrt(c / det'), |t| <= sqrt(a / det'), det' = a c - b^2/4,
+    // which for the normalised ellipse below (det' = 1 / f) is sqrt(c), sqrt(a) before normalising.
+    const double half_s = std::sqrt(c), half_t = std::sqrt(a);
     const double f = a * c - b * b * 0.25;
     a /= f, b /= f, c /= f;
-
-    // Bounding box of the ellipse: |s| <= sqrt(c / det'), |t| <= sqrt(a / det'), det' = a c - b^2/4.
-    const double det = a * c - b * b * 0.25;
-    const double half_s = std::sqrt(c / det), half_t = std::sqrt(a / det);
 
     // The centre on this level's lattice (cell: texel centres at integers), with whole periods
     // removed so it stays small for any u (repeat, mirror); for clamp and border, a centre
