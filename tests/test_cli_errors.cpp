@@ -467,6 +467,21 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     }
     r = run_texr("frobnicate");
     CHECK(r.exit_code == 2);
+    // What was typed is quoted with its control bytes and bytes that are not UTF-8 as \xNN
+    // (UTF-8 kept), as words from files are: an unknown option, a bad number, a span mode,
+    // an argument too many, an unknown command.
+    r = run_texr("render " + scene + " '--f\x1b[2J\xC3\xA9'");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: unknown option '--f\\x1B[2J\xC3\xA9' for 'texr render'\n");
+    r = run_texr("render " + scene + " --repeat '3\x1b[0m'");
+    CHECK(r.output == "texr: --repeat expects a positive whole number, got '3\\x1B[0m'\n");
+    r = run_texr("render " + scene + " '--span=exa\xC2\x9B" "ct'");
+    CHECK(r.output.rfind("texr: unknown span mode 'exa\\xC2\\x9Bct' (expected ", 0) == 0);
+    r = run_texr("explain " + dir + "/scene.txt 1 2 '3\x07\xff'");
+    CHECK(r.output == "texr: texr explain takes SCENE X Y; '3\\x07\\xFF' is one too many\n");
+    r = run_texr("'frob\x1b]0;title\x07'");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: unknown command 'frob\\x1B]0;title\\x07' (try texr --help)\n");
     r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.jpg");
     CHECK(r.exit_code == 2);
     CHECK(r.output.find("must end in .png or .ppm") != std::string::npos);

@@ -434,7 +434,10 @@ int run(const std::vector<std::string>& raw_args) {
         }
         throw UsageError{"unknown command '" + command + "' (try texr --help)"};
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "texr: %s\n", e.message.c_str());
+        // Usage messages quote what was typed (an unknown option, a bad number, an argument
+        // too many): its control bytes (a terminal's escape codes) and bytes that are not
+        // UTF-8 are shown as \xNN here, for every such message at once, as words from files are.
+        std::fprintf(stderr, "texr: %s\n", texr::shown_text(e.message, std::string::npos).c_str());
         return 2;
     } catch (const texr::InputError& e) {
         std::fprintf(stderr, "texr: %s\n", e.what());
