@@ -221,6 +221,47 @@ TEST_CASE("--spp: the ground truth is the mean of spp x spp bilinear lookups at 
     CHECK(render(scene, options, stats).color[fb.index(1, 2)].x == 0.0f);
 }
 
+TEST_CASE("HDR texels near the float maximum: anisotropic, EWA and the --spp ground truth return their value, not inf or NaN") {
+    // A Radiance texture whose every texel is RGBE (128, 128, 128, 252): 128 x 2^(252 - 136) =
+    // 2^123 = 1.06e37, a finite float. Tens of them summed in float pass the float maximum
+    // (3.4e38), so a filter that sums many texels or probes and divides afterwards must not
+    // return inf (or, blending two levels, inf - inf = NaN). Times a material colour of
+    // 2^-123 (sRGB-encoded, so linear 2^-123 / 12.92 on the curve's linear segment), every
+    // covered pixel is 1 / 12.92 under every filter.
+    const std::string dir = testing::scratch_folder("hdr-overflow");
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 16\n";
+    for (int k = 0; k < 16 * 16; ++k) hdr += std::string("\x80\x80\x80\xfc", 4);
+    testing::write_text(dir + "/big.hdr", hdr);
+    const float colour = std::ldexp(1.0f, -123);
+    for (const std::string filter : {"trilinear", "anisotropic", "ewa", "bilinear"}) {
+        for (const int spp : {1, 8}) {
+            if (spp > 1 && filter != "bilinear") continue;  // (the ground truth reads the base level bilinearly whatever the filter)
+            char material[128];
+            std::snprintf(material, sizeof material, "material m texture t color %.9g %.9g %.9g\n", colour, colour, colour);
+            std::istringstream text("size 96 72\n"
+                                    "camera eye 0 0 3 target 0 0 0 up 0 1 0 fov 45 near 0.01 far 100\n"
+                                    "texture t file big.hdr filter " + filter + " max_anisotropy 64\n" + material +
+                                    "quad material m v -1 -1 0 0 0 v 1 -1 0 40 0 v 1 1 0 40 40 v -1 1 0 0 40 scale 3 rotate -88 1 0 0\n");
+            const Scene scene = parse_scene(text, dir + "/s.scene");
+            RenderOptions options;
+            options.spp = spp;
+            RenderStats stats;
+            const Framebuffer fb = render(scene, options, stats);
+            CAPTURE(filter);
+            CAPTURE(spp);
+            int covered = 0, wrong = 0;
+            for (std::size_t i = 0; i < fb.color.size(); ++i) {
+                if (!fb.drawn(i)) continue;
+                ++covered;
+                for (int c = 0; c < 3; ++c)
+                    if (!(std::fabs(fb.color[i][c] * 12.92f - 1.0f) <= 1e-4f)) ++wrong;  // (NaN is wrong)
+            }
+            CHECK(covered > 1000);
+            CHECK(wrong == 0);
+        }
+    }
+}
+
 TEST_CASE("a scene whose textures are never minified builds no mip levels") {
     // Through the parser (the in-code test above builds its Scene by hand): a trilinear
     // texture on a square seen close up, magnified everywhere.

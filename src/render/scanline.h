@@ -131,13 +131,20 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
 // with its exact (u, v) from the homography, read bilinearly from the base level.
 Color4 supersampled_texel(const DrawContext& d, const TextureHomography& h, int x, int y, std::uint64_t& texels) {
     const int n = d.spp;
+    const auto sample = [&](int i, int j) {
+        const glm::dvec2 uv = h.uv_at(x + (i + 0.5) / n, y + (j + 0.5) / n);
+        return sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, uv.x, uv.y);
+    };
     Color4 sum(0.0f);
     for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const glm::dvec2 uv = h.uv_at(x + (i + 0.5) / n, y + (j + 0.5) / n);
-            sum += sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, uv.x, uv.y);
-        }
+        for (int i = 0; i < n; ++i) sum += sample(i, j);
     texels += 4 * std::uint64_t(n) * std::uint64_t(n);
+    if (!all_finite(sum)) {  // HDR texels near the float maximum overflowed the float sum
+        glm::dvec4 total(0.0);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) total += glm::dvec4(sample(i, j));
+        return Color4(total / double(n * n));
+    }
     return sum / float(n * n);
 }
 

@@ -92,6 +92,14 @@ Color4 sample_anisotropic(const MipMap& mip, const Sampler& s, double u, double 
     }
     probes = n;
     if (texels) *texels += std::uint64_t(n) * std::uint64_t(trilinear_texels(mip, lambda));
+    if (!all_finite(sum)) {  // HDR probes near the float maximum overflowed the float sum:
+        glm::dvec4 total(0.0);  // the same probes (an HDR image takes no short path), in double
+        for (int k = 0; k < n; ++k) {
+            const double offset = (k + 0.5) / n - 0.5;
+            total += glm::dvec4(sample_trilinear(mip, s, u + offset * axis_u, v + offset * axis_v, lambda));
+        }
+        return Color4(total / double(n));
+    }
     return sum * (1.0f / float(n));
 }
 

@@ -59,7 +59,7 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
         for (int a = 0; a < 4; ++a) row += wu[a] * reconstruct_detail::texel_or_border(image, sampler, iu[a], iv[b]);
         sum += wv[b] * row;
     }
-    if (!(std::isfinite(sum.x) && std::isfinite(sum.y) && std::isfinite(sum.z) && std::isfinite(sum.w))) {
+    if (!all_finite(sum)) {
         // Overflowed in float: HDR texels near 3.4e38 times weights above 1 (B and C far from
         // [0, 1]) made inf - inf. The same sum in double; a true value beyond float stays inf.
         glm::dvec4 total(0.0);

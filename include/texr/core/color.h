@@ -13,6 +13,16 @@ namespace texr {
 using Color = glm::vec3;   // linear RGB
 using Color4 = glm::vec4;  // linear RGBA (alpha is coverage, never encoded)
 
+// Whether every channel is finite. A filter's float sum of HDR texels near the float maximum
+// (3.4e38) can overflow to inf (and inf - inf to NaN); the filters that sum many texels or
+// probes check their sums with this and sum again in double.
+// (x - x is 0 for a finite x and NaN for an infinite or NaN one: a few instructions, no branch
+// per channel.)
+inline bool all_finite(const Color4& c) {
+    const float zero = (c.x - c.x) + (c.y - c.y) + (c.z - c.z) + (c.w - c.w);
+    return zero == zero;
+}
+
 float srgb_to_linear(float encoded);
 float linear_to_srgb(float linear);
 
