@@ -229,6 +229,44 @@ TEST_CASE("stress: degenerate UVs and huge UV gradients stay finite and bounded"
     }
 }
 
+TEST_CASE("stress: u from -1.7e308 to 1.7e308 across a quad: the span modes read what the exact mode reads") {
+    // Between a sub-span's two ends u differs by more than the largest double, so a line
+    // between them would be inf or NaN (u[b] - u[a] overflows), and the adaptive mode's
+    // curvature bound 2 |dq/dx| |K| can be 0 x inf = NaN. Both quads keep each row at one
+    // depth (one faces the camera; the other, with v from -1.7e308 to 1.7e308 too, leans back
+    // 70 degrees about x), so u is linear along every row and every mode, exact up to
+    // rounding, must draw the exact mode's frame. With clamp, u far below 0 reads the first
+    // column and far above 1 the last.
+    const double big = 1.7e308;
+    for (const bool leaning : {false, true}) {
+        CAPTURE(leaning);
+        Scene scene = testing::camera_scene(256, 192, {0, 0, 3}, {0, 0, 0}, 45.0, 0.01, 100.0);
+        add_texture(scene, Filter::nearest, Wrap::clamp);
+        const double v_low = leaning ? -big : 0.0, v_high = leaning ? big : 1.0;
+        const double lean = 70.0 * 3.14159265358979 / 180.0;
+        const auto at = [&](double x, double y, double u, double v) {  // (x, y, 0), turned about x
+            return leaning ? vertex(x, y * std::cos(lean), -y * std::sin(lean), u, v) : vertex(x, y, 0.0, u, v);
+        };
+        testing::add_triangle(scene, {at(-1, -1, -big, v_low), at(1, -1, big, v_low), at(1, 1, big, v_high)}, 0);
+        testing::add_triangle(scene, {at(-1, -1, -big, v_low), at(1, 1, big, v_high), at(-1, 1, -big, v_high)}, 0);
+        RenderOptions options;
+        options.span_mode = SpanMode::exact;
+        RenderStats stats;
+        const Framebuffer exact = render(scene, options, stats);
+        const FrameCheck c = check_frame(exact);
+        CHECK(c.finite);
+        CHECK(c.drawn > 3000);
+        for (const SpanMode mode : {SpanMode::incremental, SpanMode::affine8, SpanMode::affine16, SpanMode::affine32, SpanMode::adaptive}) {
+            CAPTURE(std::string(span_mode_name(mode)));
+            options.span_mode = mode;
+            const Framebuffer fb = render(scene, options, stats);
+            int differ = 0;
+            for (std::size_t i = 0; i < fb.color.size(); ++i) differ += fb.color[i] != exact.color[i];
+            CHECK(differ == 0);
+        }
+    }
+}
+
 TEST_CASE("stress: a million random triangles leave no NaN, nothing outside [0, 1] depth") {
     std::uint64_t triangles = 0;
     for (std::uint64_t seed = 0; seed < 50; ++seed) {

@@ -24,8 +24,13 @@ inline void exact_at(const TextureHomography& h, double x, double yc, double& u,
 // The pixels between need not be: with M the larger of |u[a]| and |u[b]|, each is
 // u[a] + du k with du = (u[b] - u[a]) (1/L) and 0 < k < L, which is within M after five
 // roundings: at most M (1 + 10 2^-53) < M (1 + 2^-48) (CoordinateBound).
-inline void linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v,
-                           CoordinateBound& bound) {
+// Where the step between the ends is not finite (they differ by more than the largest
+// double, |u| above 9e307 on both sides of 0; or an end is infinite or NaN, as where the
+// homography itself overflowed), a line between them would be inf or NaN where the exact
+// values are not: those pixels are worked out exactly instead (and added to `bound`).
+// Returns the divides made.
+inline int linear_between(const TextureHomography& h, double yc, int x0, int a, int b, double* u, double* v,
+                          CoordinateBound& bound) {
     exact_at(h, double(b), yc, u[b - x0], v[b - x0]);
     bound.include(u[b - x0], v[b - x0]);
     const double inv_length = 1.0 / double(b - a);
@@ -34,8 +39,13 @@ inline void linear_between(const TextureHomography& h, double yc, int x0, int a,
     // The pixels strictly between, in increasing x whichever way the sub-span was walked,
     // each array in a loop of its own: loops the compiler turns into vector instructions.
     const int from = std::min(a, b) + 1, to = std::max(a, b);
+    if (!(std::isfinite(du) && std::isfinite(dv))) {
+        for (int x = from; x < to; ++x) exact_at(h, double(x), yc, u[x - x0], v[x - x0]), bound.include(u[x - x0], v[x - x0]);
+        return 1 + (to - from);
+    }
     for (int x = from; x < to; ++x) u[x - x0] = ua + du * double(x - a);
     for (int x = from; x < to; ++x) v[x - x0] = va + dv * double(x - a);
+    return 1;
 }
 
 int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double* u, double* v, CoordinateBound& bound) {
@@ -46,8 +56,7 @@ int subdivided(const SpanTexturing& t, int length, int y, int x0, int n, double*
     const int last = x0 + n - 1;
     for (int a = x0; a < last;) {
         const int b = std::min(a + length, last);
-        linear_between(*t.h, yc, x0, a, b, u, v, bound);
-        ++divides;
+        divides += linear_between(*t.h, yc, x0, a, b, u, v, bound);
         a = b;
     }
     return divides;
@@ -95,6 +104,8 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v,
         if (curvature > 0.0) {
             const double fit = adaptive_fit(t, curvature, h.q.at(a + 0.5, yc));
             length = fit < double(remaining) ? std::max(1, int(fit)) : remaining;
+        } else if (std::isnan(curvature)) {
+            length = 1;  // not measurable (its products overflowed, at |u'| near 1e308): stepped
         }
         if (length < stepped_below) {
             // Where the bound allows only short sub-spans (near a horizon), sizing them costs
@@ -115,8 +126,7 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v,
             continue;
         }
         const int b = a + direction * length;
-        linear_between(h, yc, x0, a, b, u, v, bound);
-        ++divides;
+        divides += linear_between(h, yc, x0, a, b, u, v, bound);
         a = b;
     }
     return divides;

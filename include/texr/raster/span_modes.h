@@ -15,7 +15,8 @@
 // in the direction in which q grows, so that is each sub-span's start and L follows in closed
 // form. Measured in texels (u times the texture width, v times its height), L is chosen so
 // that bound stays <= tolerance. Where it allows fewer than 16 pixels (near a horizon), the
-// next 32 pixels are stepped as in the incremental mode, a divide each.
+// next 32 pixels are stepped as in the incremental mode, a divide each; so are they where
+// the bound cannot be worked out (its products overflow, at |u'| near 1e308).
 #pragma once
 #include <cmath>
 #include <string>
@@ -41,12 +42,12 @@ struct SpanTexturing {
 // every |v| at most v (1 + 2^-48); NaN if any of them is NaN. The values a mode computes
 // itself are included one by one; those it interpolates between two computed values are
 // bounded by the larger of the two, up to a few roundings (span_modes.cpp, linear_between),
-// so they need no look. This holds for values of normal size: where the two ends differ
-// by more than the largest double, or the step between them underflows, or both ends are
-// infinite, the values between can be infinite, a little larger than the bound or NaN while
-// the bound is finite or infinite. Such bounds are above 9e307 or below 1e-300, far from any
-// limit they are checked against. The span walk checks a span against the texture paths'
-// limits with it, instead of reading every pixel's coordinates once more.
+// so they need no look. (Where the step between two ends is not finite, the pixels between
+// are computed exactly, and included, instead.) This holds for values of normal size: where
+// the step between the ends underflows, the values between can be a little larger than the
+// bound. Such bounds are below 1e-300, far from any limit they are checked against. The
+// span walk checks a span against the texture paths' limits with it, instead of reading
+// every pixel's coordinates once more.
 struct CoordinateBound {
     double u = 0.0, v = 0.0;
     void include(double a, double b) {
