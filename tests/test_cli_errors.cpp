@@ -467,18 +467,33 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     }
     r = run_texr("frobnicate");
     CHECK(r.exit_code == 2);
-    // What was typed is quoted with its control bytes and bytes that are not UTF-8 as \xNN
-    // (UTF-8 kept), as words from files are: an unknown option, a bad number, a span mode,
-    // an argument too many, an unknown command.
+    // What was typed is quoted as words from files are: an option, number or keyword with
+    // every byte that is not printable ASCII as \xNN (so that a look-alike, such as a
+    // no-break space or a multiplication sign, shows), an argument too many with its control
+    // bytes and bytes that are not UTF-8 as \xNN (UTF-8 kept); likewise an unknown command.
     r = run_texr("render " + scene + " '--f\x1b[2J\xC3\xA9'");
     CHECK(r.exit_code == 2);
-    CHECK(r.output == "texr: unknown option '--f\\x1B[2J\xC3\xA9' for 'texr render'\n");
+    CHECK(r.output == "texr: unknown option '--f\\x1B[2J\\xC3\\xA9' for 'texr render'\n");
+    r = run_texr("render " + scene + " --repeat '2\xC2\xA0'");
+    CHECK(r.output == "texr: --repeat expects a positive whole number, got '2\\xC2\\xA0'\n");
+    r = run_texr("render " + scene + " --size '640\xC3\x97" "480'");
+    CHECK(r.output.rfind("texr: --size expects WxH (for example 640x480), each side from 1 to ", 0) == 0);
+    CHECK(r.output.find(", got '640\\xC3\\x97" "480'\n") != std::string::npos);
+    r = run_texr("bench --repeat '1\xE2\x80\x8B' --out " + dir + "/bench");
+    CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '1\\xE2\\x80\\x8B'\n");
     r = run_texr("render " + scene + " --repeat '3\x1b[0m'");
     CHECK(r.output == "texr: --repeat expects a positive whole number, got '3\\x1B[0m'\n");
     r = run_texr("render " + scene + " '--span=exa\xC2\x9B" "ct'");
     CHECK(r.output.rfind("texr: unknown span mode 'exa\\xC2\\x9Bct' (expected ", 0) == 0);
     r = run_texr("explain " + dir + "/scene.txt 1 2 '3\x07\xff'");
     CHECK(r.output == "texr: texr explain takes SCENE X Y; '3\\x07\\xFF' is one too many\n");
+    r = run_texr("explain " + dir + "/scene.txt '1\xC2\xA0' 2");
+    CHECK(r.output.find(", got '1\\xC2\\xA0'\n") != std::string::npos);
+    // The path a frame is written to, as `texr render` reports it.
+    r = run_texr("render " + dir + "/scene.txt -o '" + dir + "/a\x1b[31m.ppm'");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.rfind("wrote " + dir + "/a\\x1B[31m.ppm (", 0) == 0);
+    CHECK(file_exists(dir + "/a\x1b[31m.ppm"));
     r = run_texr("'frob\x1b]0;title\x07'");
     CHECK(r.exit_code == 2);
     CHECK(r.output == "texr: unknown command 'frob\\x1B]0;title\\x07' (try texr --help)\n");
@@ -2237,6 +2252,11 @@ TEST_CASE("words a message quotes from a scene or OBJ file show control bytes as
     r = run_texr("explain " + dir + "/named.txt 320 240");
     CHECK(r.exit_code == 0);
     CHECK(r.output.find("material 'm\\x1B[2J'") != std::string::npos);
+    CHECK(r.output.find('\x1b') == std::string::npos);
+    // And --stats, in its table of materials.
+    r = run_texr("render " + dir + "/named.txt -o " + dir + "/a.png --stats");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("material m\\x1B[2J") != std::string::npos);
     CHECK(r.output.find('\x1b') == std::string::npos);
 }
 

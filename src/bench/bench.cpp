@@ -62,7 +62,7 @@ int parse_int(const std::string& text, const std::string& option, int max = 1000
     }
     if (used != text.size() || v < min || v > max)
         throw std::invalid_argument(option + " expects a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
-                                    ", got '" + text + "'");
+                                    ", got " + shown_token(text));
     return v;
 }
 
@@ -101,7 +101,7 @@ int run_bench(const std::vector<std::string>& args) {
         else if (a == "filters" || a == "spans" || a == "scale" || a == "threads") {
             if (std::find(names.begin(), names.end(), a) == names.end()) names.push_back(a);  // each runs once
         }
-        else throw std::invalid_argument("unknown benchmark or option '" + a + "' (try texr bench --help)");
+        else throw std::invalid_argument("unknown benchmark or option " + shown_token(a) + " (try texr bench --help)");
     }
     if (o.quick) {  // the smoke test's settings, where the command line does not give its own
         if (!repeat_given) o.repeat = 1;
@@ -150,8 +150,8 @@ int run_bench(const std::vector<std::string>& args) {
                     t.not_measured.empty() ? "" : ("  (not measured: " + t.not_measured + ")").c_str());
     const int not_measured = targets_not_measured(targets);
     std::printf("%d of %zu targets met%s (%s/targets.md)\nwrote %s/index.md\n", targets_met(targets), targets.size(),
-                not_measured ? (", " + std::to_string(not_measured) + " not measured as the issues ask").c_str() : "", o.out.c_str(),
-                o.out.c_str());
+                not_measured ? (", " + std::to_string(not_measured) + " not measured as the issues ask").c_str() : "",
+                shown_path(o.out).c_str(), shown_path(o.out).c_str());
     return 0;
 }
 

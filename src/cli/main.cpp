@@ -122,7 +122,7 @@ int parse_positive(const std::string& text, const std::string& option) {
         used = 0;
     }
     if (used != text.size() || text.empty() || value < 1 || value > 1000000000LL)
-        throw UsageError{option + " expects a positive whole number, got '" + text + "'"};
+        throw UsageError{option + " expects a positive whole number, got " + texr::shown_token(text)};
     if (option == "--threads" && value > 256) throw UsageError{"--threads " + text + " is out of range (1..256)"};
     if (option == "--spp" && value > 64) throw UsageError{"--spp " + text + " is out of range (1..64)"};
     return int(value);
@@ -142,7 +142,7 @@ int parse_coordinate(const std::string& text, const std::string& name, int limit
         used = 0;
     }
     if (used != text.size() || value < 0 || value >= limit)
-        throw UsageError{name + " must be a pixel index from 0 to " + std::to_string(limit - 1) + ", got '" + text + "'"};
+        throw UsageError{name + " must be a pixel index from 0 to " + std::to_string(limit - 1) + ", got " + texr::shown_token(text)};
     return int(value);
 }
 
@@ -176,16 +176,16 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
         else if (a == "--span") {
             const std::string name = value();
             if (!texr::parse_span_mode(name, args.span))
-                throw UsageError{"unknown span mode '" + name + "' (expected exact, incremental, affine8, affine16, affine32, affine or adaptive)"};
+                throw UsageError{"unknown span mode " + texr::shown_token(name) + " (expected exact, incremental, affine8, affine16, affine32, affine or adaptive)"};
         } else if (a == "--span-tolerance") {
             tolerance_given = true;
             const std::string text = value();
             char* end = nullptr;
             args.span_tolerance = std::strtod(text.c_str(), &end);
             if (text.empty() || *end != '\0' || !(args.span_tolerance > 0.0 && args.span_tolerance <= 1000.0))
-                throw UsageError{"--span-tolerance expects a number of texels above 0 and at most 1000, got '" + text + "'"};
+                throw UsageError{"--span-tolerance expects a number of texels above 0 and at most 1000, got " + texr::shown_token(text)};
         } else if (a == "--stats") args.stats = true;
-        else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option '" + a + "' for 'texr render'"};
+        else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + texr::shown_token(a) + " for 'texr render'"};
         else if (args.scene.empty()) args.scene = a;
         else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
     }
@@ -220,7 +220,8 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     std::printf("pixels shaded      %llu\n", (unsigned long long)per_frame(s.pixels_shaded));
     std::printf("texels fetched     %llu\n", (unsigned long long)per_frame(s.texels_fetched));
     for (const texr::Material& m : scene.materials)
-        std::printf("material %-12s needs %s\n", m.name.c_str(), texr::describe(texr::needs_of(m, scene)).c_str());
+        std::printf("material %-12s needs %s\n", texr::shown_text(m.name, texr::shown_token_bytes).c_str(),
+                    texr::describe(texr::needs_of(m, scene)).c_str());
     // What each texture holds after the frames: what was built or decoded shows what was read.
     // Textures of one file share its image (and, with cell registration, its mip levels):
     // the memory is counted at the first texture that names them.
@@ -255,7 +256,7 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
             std::snprintf(text, sizeof text, "; decoded copies %.2f MiB", mib(decoded));
             line += decoded ? text : "; decoded copies none";
         }
-        std::printf("texture %-12s %s\n", t.name.c_str(), line.c_str());
+        std::printf("texture %-12s %s\n", texr::shown_text(t.name, texr::shown_token_bytes).c_str(), line.c_str());
     }
     std::printf("threads            %d  (worker threads: --threads, or one per core; at most one per 8 rows)\n", s.workers);
 #if defined(__SSE2__)
@@ -316,7 +317,7 @@ int run_render(const std::vector<std::string>& argv) {
     std::sort(frame_ms.begin(), frame_ms.end());
     const double median = frame_ms.size() % 2 ? frame_ms[frame_ms.size() / 2]
                                               : 0.5 * (frame_ms[frame_ms.size() / 2 - 1] + frame_ms[frame_ms.size() / 2]);
-    std::printf("wrote %s (%dx%d)\n", args.output.c_str(), frame.width, frame.height);
+    std::printf("wrote %s (%dx%d)\n", texr::shown_path(args.output).c_str(), frame.width, frame.height);
     if (args.repeat > 1)
         std::printf("median frame time %.3f ms over %d frames (min %.3f, max %.3f)\n", median, args.repeat,
                     frame_ms.front(), frame_ms.back());
@@ -347,7 +348,7 @@ int run_explain(const std::vector<std::string>& argv) {
             options.push_back(argv[i]);
             options.push_back(argv[++i]);
         } else if (!argv[i].empty() && argv[i][0] == '-' && !(argv[i].size() > 1 && std::isdigit(static_cast<unsigned char>(argv[i][1])))) {
-            throw UsageError{"unknown option '" + argv[i] + "' for 'texr explain'"};
+            throw UsageError{"unknown option " + texr::shown_token(argv[i]) + " for 'texr explain'"};
         } else {
             positional.push_back(argv[i]);
         }
@@ -432,7 +433,7 @@ int run(const std::vector<std::string>& raw_args) {
                 throw UsageError{e.what()};
             }
         }
-        throw UsageError{"unknown command '" + command + "' (try texr --help)"};
+        throw UsageError{"unknown command " + texr::shown_token(command) + " (try texr --help)"};
     } catch (const UsageError& e) {
         // Usage messages quote what was typed (an unknown option, a bad number, an argument
         // too many): its control bytes (a terminal's escape codes) and bytes that are not

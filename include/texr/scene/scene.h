@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "texr/core/color.h"
+#include "texr/core/error.h"
 #include "texr/texture/image.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/sampler.h"
@@ -103,7 +104,7 @@ constexpr long long max_image_pixels = 64LL * 1024 * 1024;
 // width and height and returns "", or returns the message for the user.
 inline std::string parse_frame_size(const std::string& text, int& width, int& height) {
     const std::string limits = "each side from 1 to " + std::to_string(max_image_side);
-    const std::string malformed = "--size expects WxH (for example 640x480), " + limits + ", got '" + text + "'";
+    const std::string malformed = "--size expects WxH (for example 640x480), " + limits + ", got " + shown_token(text);
     const std::size_t x = text.find('x');
     if (x == std::string::npos) return malformed;
     const std::string parts[2] = {text.substr(0, x), text.substr(x + 1)};
