@@ -186,3 +186,28 @@ TEST_CASE("the coordinate bound keeps a NaN once it has seen one") {
         CHECK(!std::isnan(bound.v));
     }
 }
+
+TEST_CASE("the adaptive mode steps a span whose error bound overflows, instead of drawing it as one line") {
+    // q = 1e118 x + 1e120 and u' = 1e200 (v' = 0): u = 1e80 / (x/100 + 1), halving over the
+    // first 100 pixels, a strongly curved row. The bound's K = -u' dq/dx overflows to -inf,
+    // so its curvature is inf, and q^3 overflows too: the allowed length inf / inf is NaN.
+    // The pixels must then be stepped (as `incremental` does), each within a few roundings
+    // of u'/q; a line through the span's ends would be 12% off in its middle.
+    TextureHomography h{};
+    h.u_prime = {0.0, 0.0, 1e200};
+    h.v_prime = {0.0, 0.0, 0.0};
+    h.q = {1e118, 0.0, 1e120};
+    SpanTexturing t;
+    t.h = &h;
+    t.width = t.height = 1;
+    std::vector<double> u(101), v(101);
+    CoordinateBound bound;
+    span_texture_coordinates(SpanMode::adaptive, t, 0, 0, 101, u.data(), v.data(), bound);
+    double worst = 0.0;
+    for (int x = 0; x <= 100; ++x) {
+        const double exact = 1e200 / (1e118 * (x + 0.5) + 1e120);
+        worst = std::max(worst, std::fabs(u[std::size_t(x)] - exact) / exact);
+        CHECK(v[std::size_t(x)] == 0.0);
+    }
+    CHECK(worst < 1e-12);
+}

@@ -103,10 +103,11 @@ int adaptive(const SpanTexturing& t, int y, int x0, int n, double* u, double* v,
         int length = remaining;
         if (curvature > 0.0) {
             const double fit = adaptive_fit(t, curvature, h.q.at(a + 0.5, yc));
-            length = fit < double(remaining) ? std::max(1, int(fit)) : remaining;
+            length = fit < double(remaining) ? std::max(1, int(fit)) : std::isnan(fit) ? 1 : remaining;
         } else if (std::isnan(curvature)) {
-            length = 1;  // not measurable (its products overflowed, at |u'| near 1e308): stepped
+            length = 1;
         }
+        // (A NaN bound, whose products overflowed at |u'| or q^3 near 1e308: stepped.)
         if (length < stepped_below) {
             // Where the bound allows only short sub-spans (near a horizon), sizing them costs
             // more than it saves: take the next pixels as the incremental mode does, stepping
