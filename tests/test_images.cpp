@@ -222,42 +222,59 @@ TEST_CASE("--spp: the ground truth is the mean of spp x spp bilinear lookups at 
 }
 
 TEST_CASE("HDR texels near the float maximum: anisotropic, EWA and the --spp ground truth return their value, not inf or NaN") {
-    // A Radiance texture whose every texel is RGBE (128, 128, 128, 252): 128 x 2^(252 - 136) =
-    // 2^123 = 1.06e37, a finite float. Tens of them summed in float pass the float maximum
-    // (3.4e38), so a filter that sums many texels or probes and divides afterwards must not
-    // return inf (or, blending two levels, inf - inf = NaN). Times a material colour of
-    // 2^-123 (sRGB-encoded, so linear 2^-123 / 12.92 on the curve's linear segment), every
-    // covered pixel is 1 / 12.92 under every filter.
+    // A Radiance checker of RGBE (128, 128, 128, 252) and (128, 128, 128, 251) texels:
+    // 128 x 2^(e - 136) = 2^123 and 2^122, finite floats, tens of which summed in float pass
+    // the float maximum (3.4e38). A filter that sums many texels or probes must not return
+    // inf (or, blending two levels, inf - inf = NaN). The same checker scaled by 2^-100
+    // (exponents 152 and 151) overflows nothing; times material colours 2^-123 and 2^-23,
+    // the two frames must match (to float rounding: the first sums in double where the
+    // second sums in float) and read the same number of texels.
     const std::string dir = testing::scratch_folder("hdr-overflow");
-    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 16\n";
-    for (int k = 0; k < 16 * 16; ++k) hdr += std::string("\x80\x80\x80\xfc", 4);
-    testing::write_text(dir + "/big.hdr", hdr);
-    const float colour = std::ldexp(1.0f, -123);
+    const auto checker = [&](const std::string& name, int high_exponent) {
+        std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 16\n";
+        for (int k = 0; k < 16 * 16; ++k) {
+            const int exponent = high_exponent - ((k % 16 + k / 16) % 2);
+            hdr += std::string("\x80\x80\x80", 3) + char(exponent);
+        }
+        testing::write_text(dir + "/" + name, hdr);
+    };
+    checker("big.hdr", 252);
+    checker("small.hdr", 152);
     for (const std::string filter : {"trilinear", "anisotropic", "ewa", "bilinear"}) {
         for (const int spp : {1, 8}) {
             if (spp > 1 && filter != "bilinear") continue;  // (the ground truth reads the base level bilinearly whatever the filter)
-            char material[128];
-            std::snprintf(material, sizeof material, "material m texture t color %.9g %.9g %.9g\n", colour, colour, colour);
-            std::istringstream text("size 96 72\n"
-                                    "camera eye 0 0 3 target 0 0 0 up 0 1 0 fov 45 near 0.01 far 100\n"
-                                    "texture t file big.hdr filter " + filter + " max_anisotropy 64\n" + material +
-                                    "quad material m v -1 -1 0 0 0 v 1 -1 0 40 0 v 1 1 0 40 40 v -1 1 0 0 40 scale 3 rotate -88 1 0 0\n");
-            const Scene scene = parse_scene(text, dir + "/s.scene");
-            RenderOptions options;
-            options.spp = spp;
-            RenderStats stats;
-            const Framebuffer fb = render(scene, options, stats);
             CAPTURE(filter);
             CAPTURE(spp);
+            std::vector<Framebuffer> frames;
+            std::uint64_t texels[2] = {0, 0};
+            for (int k = 0; k < 2; ++k) {
+                const float colour = std::ldexp(1.0f, k == 0 ? -123 : -23);
+                char material[128];
+                std::snprintf(material, sizeof material, "material m texture t color %.9g %.9g %.9g\n", colour, colour, colour);
+                std::istringstream text("size 96 72\n"
+                                        "camera eye 0 0 3 target 0 0 0 up 0 1 0 fov 45 near 0.01 far 100\n"
+                                        "texture t file " + std::string(k == 0 ? "big.hdr" : "small.hdr") + " filter " + filter +
+                                        " max_anisotropy 64\n" + material +
+                                        "quad material m v -1 -1 0 0 0 v 1 -1 0 40 0 v 1 1 0 40 40 v -1 1 0 0 40 scale 3 rotate -88 1 0 0\n");
+                const Scene scene = parse_scene(text, dir + "/s.scene");
+                RenderOptions options;
+                options.spp = spp;
+                RenderStats stats;
+                frames.push_back(render(scene, options, stats));
+                texels[k] = stats.texels_fetched;
+            }
             int covered = 0, wrong = 0;
-            for (std::size_t i = 0; i < fb.color.size(); ++i) {
-                if (!fb.drawn(i)) continue;
+            for (std::size_t i = 0; i < frames[0].color.size(); ++i) {
+                if (!frames[1].drawn(i)) continue;
                 ++covered;
-                for (int c = 0; c < 3; ++c)
-                    if (!(std::fabs(fb.color[i][c] * 12.92f - 1.0f) <= 1e-4f)) ++wrong;  // (NaN is wrong)
+                for (int c = 0; c < 3; ++c) {
+                    const float want = frames[1].color[i][c], got = frames[0].color[i][c];
+                    if (!(std::fabs(got - want) <= 1e-5f * want)) ++wrong;  // (NaN is wrong)
+                }
             }
             CHECK(covered > 1000);
             CHECK(wrong == 0);
+            CHECK(texels[0] == texels[1]);
         }
     }
 }
