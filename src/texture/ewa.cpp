@@ -163,7 +163,11 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     // offset: one load a texel instead of four byte loads and three table loads.
     const float* const decoded = level.decoded;
     Color4 sum(0.0f);
-    glm::dvec4 wide_sum(0.0);  // (Wide)
+    // The sum of texels read through Image::texel (HDR images, and 8-bit ones with a border):
+    // in double when Wide.
+    using TexelSum = std::conditional_t<Wide, glm::dvec4, Color4>;
+    using TexelWeight = std::conditional_t<Wide, double, float>;
+    TexelSum texel_sum(0.0f);
     float weight_sum = 0.0f;
 #if defined(__SSE__)
     __m128 sum_lanes = _mm_setzero_ps();  // the sum from the copy (each lane the same product and sum as Color4's)
@@ -201,27 +205,14 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
             }
             sum = partial;
         } else {
-            const auto texel_at = [&](std::size_t i) {
+            TexelSum partial = texel_sum;
+            for (std::size_t i = 0; i < listed; ++i) {
+                const float weight = weight_at(i);
                 const int column = int(place_list[i] & 0xffffffff) - 1, row = int(place_list[i] >> 32) - 1;
-                return (column < 0 || row < 0) ? s.border : image.texel(column, row);
-            };
-            if constexpr (Wide) {
-                glm::dvec4 partial = wide_sum;
-                for (std::size_t i = 0; i < listed; ++i) {
-                    const float weight = weight_at(i);
-                    partial += double(weight) * glm::dvec4(texel_at(i));
-                    listed_weight += weight;
-                }
-                wide_sum = partial;
-            } else {
-                Color4 partial = sum;
-                for (std::size_t i = 0; i < listed; ++i) {
-                    const float weight = weight_at(i);
-                    partial += weight * texel_at(i);
-                    listed_weight += weight;
-                }
-                sum = partial;
+                partial += TexelWeight(weight) * TexelSum((column < 0 || row < 0) ? s.border : image.texel(column, row));
+                listed_weight += weight;
             }
+            texel_sum = partial;
         }
         weight_sum = listed_weight;
         texels += int(listed);
@@ -325,7 +316,7 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     }
 #endif
     if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
-    if constexpr (Wide) return Color4(wide_sum / double(weight_sum));
+    if (!by_offset) return Color4(texel_sum / TexelWeight(weight_sum));
     return sum / weight_sum;
 }
 
