@@ -150,23 +150,12 @@ std::vector<std::string> mtllib_names(const std::string& text) {
 // each from 0 to max_color (scene.h), on every Kd line, and hands tinyobjloader a grey as
 // 'Kd g g g' on the same line. And map_Kd lines without texture options.
 std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
-    std::string out;
-    out.reserve(text.size());
-    int line_number = 0;
-    // (a UTF-8 byte order mark, which tinyobjloader would read as part of the first keyword,
-    // left out)
-    for (std::size_t start = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0; start < text.size();) {
-        ++line_number;
-        std::size_t end = text.find_first_of("\r\n", start);
-        if (end == std::string::npos) end = text.size();
-        std::string line = text.substr(start, end - start);
-        const std::size_t line_start = start;
-        start = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
-        out.append(text, line_start, std::min(start, text.size()) - line_start);
-        line.erase(std::min(line.size(), line.find('#')));
-        std::istringstream words(line);
+    // (Lines as TextLineReader splits them, each handed on with an LF; a UTF-8 byte order
+    // mark, which tinyobjloader would read as part of the first keyword, left out.)
+    const auto checked = [&](const std::string& raw, int line_number) -> std::string {
+        std::istringstream words(raw.substr(0, raw.find('#')));
         std::string keyword, word;
-        if (!(words >> keyword)) continue;
+        if (!(words >> keyword)) return raw;
         if (keyword == "map_Kd") {
             // Texture options (-s scale, -o offset, -clamp, -bm, ...): tinyobjloader reads
             // them, texr would draw the image without them; refused rather than ignored.
@@ -178,9 +167,9 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
                 for (const char* option : options)
                     if (word == option)
                         throw InputError(mtl, line_number, "map_Kd option " + shown_token(word) + " is not supported (texr reads the image alone): remove it");
-            continue;
+            return raw;
         }
-        if (keyword != "Kd") continue;
+        if (keyword != "Kd") return raw;
         int count = 0;
         std::string grey;  // the first number
         while (words >> word) {
@@ -191,8 +180,16 @@ std::string checked_mtl_text(const std::string& mtl, const std::string& text) {
         }
         if (count != 1 && count != 3)
             throw InputError(mtl, line_number, "Kd needs 3 numbers (or 1, a grey), got " + std::to_string(count));
-        if (count == 1)  // the line as copied, up to its end of line, replaced by 'Kd g g g'
-            out.replace(out.size() - (std::min(start, text.size()) - line_start), end - line_start, "Kd " + grey + " " + grey + " " + grey);
+        return count == 1 ? "Kd " + grey + " " + grey + " " + grey : raw;
+    };
+    std::istringstream in(text);
+    TextLineReader lines(in);
+    std::string out, raw;
+    out.reserve(text.size());
+    for (int line_number = 1; lines.next(raw); ++line_number) {
+        if (line_number == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);
+        out += checked(raw, line_number);
+        out += '\n';
     }
     return out;
 }
