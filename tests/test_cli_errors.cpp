@@ -822,6 +822,25 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     CHECK(out.find("the minor axis stretched to major / max_anisotropy = 3.372 texels") != std::string::npos);
     CHECK(out.find("= 1.7534: the Gaussian-weighted mean over the ellipse on level 1 (128x32) and level 2 (64x16), blended 0.7534") !=
           std::string::npos);
+    // 90 texels per pixel along v, 360 along u (UVs 0..90 over 64 pixels, both axes): EWA's
+    // minor axis is 90 texels, lambda = log2(90) = 6.4919, levels 6 (4x1) and 7 (2x1), each one
+    // texel across v. ewa.h sums those levels by their texels along u, each weighted by the
+    // Gaussian along the ellipse's chord across v, unless v wraps to the border.
+    const std::string far = "v -2 -2 -2 0 0 v 2 -2 -2 90 0 v 2 2 -2 90 90 v -2 2 -2 0 90";
+    out = explain("t.ppm filter ewa", far);
+    CHECK(out.find("= 6.4919: the Gaussian-weighted mean over the ellipse on level 6 (4x1) and level 7 (2x1)") != std::string::npos);
+    for (const char* l : {"6", "7"})
+        CHECK(out.find(std::string("    level ") + l + " is one texel across v (no border wrap there), so it does not change along v:\n"
+                       "    each of its texels along u is weighted by the Gaussian integrated along the ellipse's chord\n") !=
+              std::string::npos);
+    // 181 texels per pixel along v: lambda = log2(181) = 7.4998, levels 7 (2x1) and 8 (1x1).
+    out = explain("t.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 181 0 v 2 2 -2 181 181 v -2 2 -2 0 181");
+    CHECK(out.find("= 7.4998: the Gaussian-weighted mean over the ellipse on level 7 (2x1) and level 8 (1x1)") != std::string::npos);
+    CHECK(out.find("    level 7 is one texel across v (no border wrap there)") != std::string::npos);
+    CHECK(out.find("    level 8 is one texel (no border wrap): the mean over the ellipse is that texel\n") != std::string::npos);
+    out = explain("t.ppm filter ewa wrap_v border", far);
+    CHECK(out.find("level 7 (2x1)") != std::string::npos);
+    CHECK(out.find("is one texel across") == std::string::npos);
 
     // 1024 texels per pixel on the 1024^2 texture (UVs 0..64): lambda = 10, the 1x1 level.
     const std::string detail = source_path("models/textures/detail.png");

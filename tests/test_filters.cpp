@@ -986,14 +986,21 @@ TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between t
     MESSAGE("EWA cases compared within 1e-5: ", cases_exact, ", within 2e-3: ", cases_near_edge);
 }
 
-TEST_CASE("EWA over a box of more cells than its list holds (a thin image, far minified along its 1-texel side)") {
+TEST_CASE("EWA on a thin image: rows weighted in closed form where its 1-texel side repeats, mirrors or clamps, and with border a box of more cells than the list holds") {
     // A 1x1024 image: its levels stay 1 texel wide, so a footprint thousands of texels long
-    // along u keeps an ellipse that long on every level, and its box outgrows the filter's
-    // list of 2^12 cells (summed and emptied as it fills) and, past 2^12 columns, its table of
-    // columns (each cell then wrapped as it is listed). Axis-aligned footprints, so their
-    // principal axes are d1 and d2 themselves; max anisotropy 64 sets the level from
-    // major / 64. Three wrap pairs: the copy's path (repeat), the table's (clamp), and the
-    // general path's (border on u: every column but 0 reads the border colour).
+    // along u is thousands of image widths long on every level. Axis-aligned footprints, so
+    // their principal axes are d1 and d2 themselves; max anisotropy 64 sets the level from
+    // major / 64.
+    // - Border on u: the texture changes along u (the border beyond the image), and the
+    //   ellipse is summed cell by cell: its box outgrows the filter's list of 2^12 cells
+    //   (summed and emptied as it fills) and, past 2^12 columns, its table of columns (each
+    //   cell then wrapped as it is listed). Every column but 0 reads the border colour.
+    // - Repeat, mirror or clamp on u: every cell of a row reads the row's texel in column 0,
+    //   and ewa.h weighs each row by the Gaussian integrated along its chord of the ellipse:
+    //   m(r) = exp(-2 r) sqrt(pi / 2) erf(sqrt(2 (1 - r))) - 2 sqrt(1 - r) exp(-2), with
+    //   r = (j - ct)^2 / A on row j, A = d1v^2 + d2v^2 + 1 (here 0 + (0.7 minor)^2 + 1 in the
+    //   level's texels), tabulated like the Gaussian (the entry at or below r). That is the
+    //   cell-by-cell sum's limit for a long ellipse, which the last check compares with.
     std::mt19937_64 rng(53);
     std::vector<std::uint8_t> bytes(1024 * 4);
     for (auto& byte : bytes) byte = std::uint8_t(rng() % 256);
@@ -1002,38 +1009,98 @@ TEST_CASE("EWA over a box of more cells than its list holds (a thin image, far m
         double major, minor;  // base texels, along u and v
         int reach;            // of the reference, along u
     };
-    const Footprint footprints[] = {{2000.0, 32.0, 1500}, {6000.0, 94.0, 4300}, {12500.0, 196.0, 8900}};
-    const std::pair<Wrap, Wrap> wraps[] = {{Wrap::repeat, Wrap::repeat}, {Wrap::clamp, Wrap::mirror}, {Wrap::border, Wrap::repeat}};
+    // The same texels in a 1024x1 image: its rows are the other's columns.
+    const MipMap transposed(std::make_shared<Image>(Image::ldr(1024, 1, ColorSpace::srgb, bytes)));
+    // The last footprint reads levels 9 (1x2) and 10 (1x1, the image's mean: one texel, or
+    // with border on v, rows of the texel and the border).
+    const Footprint footprints[] = {{2000.0, 32.0, 1500}, {6000.0, 94.0, 4300}, {12500.0, 196.0, 8900}, {20000.0, 700.0, 15000}};
+    const std::pair<Wrap, Wrap> wraps[] = {{Wrap::border, Wrap::repeat}, {Wrap::repeat, Wrap::repeat}, {Wrap::clamp, Wrap::mirror},
+                                           {Wrap::mirror, Wrap::border}};
+    double largest_gap = 0.0;  // between the rows' sum and the cell-by-cell sum
     for (const Footprint& fp : footprints)
-        for (const auto& [wrap_u, wrap_v] : wraps) {
-            Sampler s;
-            s.max_anisotropy = 64.0f;
-            s.wrap_u = wrap_u, s.wrap_v = wrap_v;
-            s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
-            const double lambda = std::log2(std::max(fp.minor, fp.major / 64.0));
-            const int l0 = int(lambda);
-            const double u = 0.37, v = 0.61;
-            bool near_edge = false;
-            const auto at = [&](int l) {
-                const Image& level = mip.level(l);
-                const double kx = 0.7 * level.width() / 1.0, ky = 0.7 * level.height() / 1024.0;
+        for (const auto& [wrap_u, wrap_v] : wraps)
+            for (const double v : {0.61, 0.004}) {
+                Sampler s;
+                s.max_anisotropy = 64.0f;
+                s.wrap_u = wrap_u, s.wrap_v = wrap_v;
+                s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
                 const double minor = std::max(fp.minor, fp.major / 64.0);  // (stretched)
-                return ewa_level_by_definition(level, s, u, v, fp.major * kx, 0.0, 0.0, minor * ky, near_edge, fp.reach, 12);
-            };
-            const Color4 a = at(l0), b = at(l0 + 1);
-            const Color4 expected = a + float(lambda - l0) * (b - a);
-            int texels = 0;
-            const Color4 got = sample_ewa(mip, s, u, v, {fp.major / 1.0, 0.0, 0.0, fp.minor / 1024.0}, texels);
-            CAPTURE(fp.major);
-            const int wrap_u_mode = int(wrap_u);  // (CAPTURE: not a binding)
-            CAPTURE(wrap_u_mode);
-            CAPTURE(texels);
-            // The first footprint's box (about 2800 x 3 cells a level) is more than the list
-            // holds, so it takes the chunked listing with its column table, though its inside
-            // cells fit; the others' inside cells alone overflow the list on each level.
-            CHECK(texels > (fp.major < 3000.0 ? 4096 : 2 * 4096));
-            for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(near_edge ? 2e-3 : 1e-4));
-        }
+                const double lambda = std::log2(minor);
+                const int l0 = int(lambda);
+                const double u = 0.37;
+                bool near_edge = false;
+                // Cell by cell (the definition's sum over the whole ellipse).
+                const auto cells = [&](int l) {
+                    const Image& level = mip.level(l);
+                    const double kx = 0.7 * level.width() / 1.0, ky = 0.7 * level.height() / 1024.0;
+                    return ewa_level_by_definition(level, s, u, v, fp.major * kx, 0.0, 0.0, minor * ky, near_edge, fp.reach, 12);
+                };
+                // Row by row, weighted by m(r).
+                int rows_inside = 0;
+                const auto rows = [&](int l) {
+                    const Image& level = mip.level(l);
+                    const double d2v = 0.7 * minor * level.height() / 1024.0;
+                    const double spread = d2v * d2v + 1.0, ct = v * level.height() - 0.5;
+                    // A level one texel across both axes (and no border) is that texel, read once.
+                    const bool one_texel = level.height() == 1 && wrap_v != Wrap::border;
+                    if (one_texel) ++rows_inside;
+                    glm::dvec4 sum(0.0);
+                    double weight_sum = 0.0;
+                    for (int j = int(std::floor(ct)) - 200; j <= int(std::ceil(ct)) + 200; ++j) {
+                        const double r = (j - ct) * (j - ct) / spread, steps = r * 127.0;
+                        if (r < 1.0 + 1e-9 && std::fabs(steps - std::round(steps)) < 1e-9 * 127.0) near_edge = true;
+                        if (!(r < 1.0)) continue;
+                        if (!one_texel) ++rows_inside;
+                        const double q = std::floor(steps) / 127.0;
+                        const double m = std::exp(-2.0 * q) * std::sqrt(M_PI / 2.0) * std::erf(std::sqrt(2.0 * (1.0 - q))) -
+                                         2.0 * std::sqrt(1.0 - q) * std::exp(-2.0);
+                        const int row = wrap_index(wrap_v, j, level.height(), false);
+                        sum += m * glm::dvec4(row < 0 ? s.border : level.texel(0, row));
+                        weight_sum += m;
+                    }
+                    return Color4(sum / weight_sum);
+                };
+                const bool by_rows = wrap_u != Wrap::border;
+                const Color4 a = by_rows ? rows(l0) : cells(l0), b = by_rows ? rows(l0 + 1) : cells(l0 + 1);
+                const Color4 expected = a + float(lambda - l0) * (b - a);
+                int texels = 0;
+                const Color4 got = sample_ewa(mip, s, u, v, {fp.major / 1.0, 0.0, 0.0, fp.minor / 1024.0}, texels);
+                CAPTURE(fp.major);
+                CAPTURE(v);
+                const int wrap_u_mode = int(wrap_u), wrap_v_mode = int(wrap_v);  // (CAPTURE: not a binding)
+                CAPTURE(wrap_u_mode);
+                CAPTURE(wrap_v_mode);
+                CAPTURE(texels);
+                // (Float sums over up to 70k cells: 1e-4; the rows' sum is in double.)
+                const double tolerance = near_edge ? 2e-3 : by_rows ? 1e-5 : 1e-4;
+                for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(tolerance));
+                if (!by_rows) {
+                    // The first footprint's box (about 2800 x 3 cells a level) is more than the
+                    // list holds, so it takes the chunked listing with its column table, though
+                    // its inside cells fit; the others' inside cells alone overflow the list on
+                    // each level.
+                    CHECK(texels > (fp.major < 3000.0 ? 4096 : 2 * 4096));
+                    continue;
+                }
+                // One texel read a row inside either ellipse (at a whole lambda, l0's alone).
+                if (!near_edge && float(lambda - l0) != 0.0f) CHECK(texels == rows_inside);
+                CHECK(texels < 2 * 8);
+                // The transposed image, with the footprint and the wrap modes transposed, sums
+                // its columns the same way.
+                Sampler st = s;
+                st.wrap_u = wrap_v, st.wrap_v = wrap_u;
+                int texels_transposed = 0;
+                const Color4 got_transposed =
+                    sample_ewa(transposed, st, v, u, {0.0, fp.major / 1.0, fp.minor / 1024.0, 0.0}, texels_transposed);
+                CHECK(texels_transposed == texels);
+                for (int c = 0; c < 4; ++c) CHECK(got_transposed[c] == doctest::Approx(got[c]).epsilon(1e-6));
+                // The cell-by-cell sum over the ellipse, hundreds of image widths long, whose
+                // rows' sums approach m(r) (up to a factor every row shares).
+                const Color4 by_cells = cells(l0) + float(lambda - l0) * (cells(l0 + 1) - cells(l0));
+                for (int c = 0; c < 3; ++c) largest_gap = std::max(largest_gap, double(std::fabs(by_cells[c] - got[c])));
+            }
+    MESSAGE("largest difference between the rows' and the cells' sums: ", largest_gap);
+    CHECK(largest_gap < 1e-3);
 }
 
 TEST_CASE("EWA reads the same values from an 8-bit image's bytes as from its decoded copy") {

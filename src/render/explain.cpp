@@ -101,7 +101,26 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     out += format("    lambda = max(0, log2(minor)) = %.4f: ", at.lambda);
     if (at.lambda >= double(last))
         return out + "at or beyond the coarsest level (the ellipse would cover the image): bilinear on " + level(last) + "\n";
-    return out + "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
+    out += "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
+    // Levels one texel across an axis that does not wrap to the border (ewa.h): summed row by
+    // row across that axis.
+    const int l0 = int(at.lambda);
+    for (int l = l0; l <= std::min(l0 + 1, last); ++l) {
+        if (l > l0 && at.lambda == double(l0)) break;
+        const Image& image = mip.level(l);
+        const bool across_u = image.width() == 1 && s.wrap_u != Wrap::border;
+        const bool across_v = image.height() == 1 && s.wrap_v != Wrap::border;
+        if (!across_u && !across_v) continue;
+        const std::string level_named = "    level " + std::to_string(l);
+        if (across_u && across_v) {
+            out += level_named + " is one texel (no border wrap): the mean over the ellipse is that texel\n";
+            continue;
+        }
+        const std::string along = across_u ? "u" : "v", other = across_u ? "v" : "u";
+        out += level_named + " is one texel across " + along + " (no border wrap there), so it does not change along " + along +
+               ":\n    each of its texels along " + other + " is weighted by the Gaussian integrated along the ellipse's chord\n";
+    }
+    return out;
 }
 
 // The texels nearest and bilinear read on the base level, as the slides index them: the

@@ -47,8 +47,8 @@ const std::array<float, weight_table_size>& gaussian_weights() {
 // The per-thread memory of ewa_over: a list of cells inside the ellipse (each one's Q and
 // place, below), summed and emptied whenever it fills, and the places of a box's columns.
 // Each holds ewa_list_cells entries, so a thread keeps 96 KiB, whatever the box (a thin
-// image's level can have a box of a million texels along its long side; the usual box is a
-// few dozen cells, and a list of 4096 is emptied once per lookup).
+// image's level with border wrap across its 1-texel side can have a box of a million texels;
+// the usual box is a few dozen cells, and a list of 4096 is emptied once per lookup).
 constexpr std::size_t ewa_list_cells = std::size_t(1) << 12;
 struct EwaScratch {
     std::vector<double> q = std::vector<double>(ewa_list_cells);
@@ -78,7 +78,6 @@ struct EwaEllipse {
     // The diameters on this level's lattice (node registration: its n - 1 spacings).
     const LatticeSize lattice = lattice_size(image, s);
     d1u *= lattice.width, d2u *= lattice.width, d1v *= lattice.height, d2v *= lattice.height;
-
     // Ellipse coefficients, normalised so the boundary is Q = 1.
     double a = d1v * d1v + d2v * d2v + 1.0;
     double b = -2.0 * (d1u * d1v + d2u * d2v);
@@ -112,7 +111,8 @@ struct EwaEllipse {
     const double cs = centre(u, w, half_s, s.wrap_u), ct = centre(v, h, half_t, s.wrap_v);
     // The box: a few hundred texels a side at most on a level of an image whose sides both
     // shrink with the levels (max_anisotropy <= 64); along the 1-texel side of a thin image
-    // (whose levels keep it 1 texel) the ellipse keeps its base length, below 64 times the
+    // with border wrap (whose levels keep it 1 texel, and whose texture does change along it:
+    // the border beyond the image) the ellipse keeps its base length, below 64 times the
     // coarsest level's scale (sample_ewa reads that level alone beyond it): at most about
     // 1.5M texels for 16384-texel images. The floors fit in int either way.
     const int s0 = int(-floor_to_int64(half_s - cs)), s1 = int(floor_to_int64(cs + half_s));
@@ -304,7 +304,8 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     } else if (!chunked) {
         list_cells(at_once, wrapped_row_place, [&](int k) { return column_place[k]; });
     } else {
-        // (rare: a thin image's level, at high anisotropy)
+        // (rare: an ellipse at max anisotropy 64 across the lattice's diagonal, or a thin
+        // image's level with border wrap across its 1-texel side)
         list_cells(in_chunks, wrapped_row_place, [&](int k) { return column_table ? column_place[k] : wrapped_column_place(k); });
     }
     sum_listed(n);
@@ -320,9 +321,71 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     return sum / weight_sum;
 }
 
-// ewa_over, summed again in double where the float sum of an HDR image's texels overflowed
-// (8-bit texels and the border colour cannot overflow it).
-Color4 ewa_average(const Image& image, const Sampler& s, const EwaEllipse& e, int& texels) {
+// The weight of one row of the ellipse, for a level that does not change along the rows: the
+// Gaussian weight exp(-alpha Q) - exp(-alpha) integrated along the row's chord of Q < 1. On
+// row t, Q = r + a (s - s*)^2 with s* the chord's middle and r = t^2 (a c - b^2/4) / a, the
+// least Q on the row (a, b, c: EwaEllipse's normalised coefficients; r = t^2 / A with A of
+// ewa.h, the ellipse's half-height squared). The chord is |s - s*| < sqrt((1 - r) / a), and
+// with y = (s - s*) sqrt(a) the integral is, up to the factor 1 / sqrt(a) that every row shares,
+//   m(r) = exp(-alpha r) sqrt(pi / alpha) erf(sqrt(alpha (1 - r))) - 2 sqrt(1 - r) exp(-alpha),
+// tabulated at r = k / (size - 1) as the Gaussian is (m(1) = 0). The shear and the ellipse's
+// width along the rows drop out: only its height tells the rows' weights.
+const std::array<float, weight_table_size>& row_weights() {
+    static const std::array<float, weight_table_size> table = [] {
+        std::array<float, weight_table_size> t{};
+        const double alpha = gaussian_alpha, pi = 3.14159265358979323846;
+        for (int i = 0; i < weight_table_size; ++i) {
+            const double r = double(i) / double(weight_table_size - 1), chord = std::sqrt(1.0 - r);
+            t[std::size_t(i)] = float(std::exp(-alpha * r) * std::sqrt(pi / alpha) * std::erf(std::sqrt(alpha) * chord) -
+                                      2.0 * chord * std::exp(-alpha));
+        }
+        return t;
+    }();
+    return table;
+}
+
+// EWA over a level one texel across s (flat_s: its width is 1 and wrap_u repeats, mirrors or
+// clamps, so every cell of a row reads the row's texel) or across t (flat_t, the same for
+// columns; ewa.h). The ellipse's sum is each row's texel times the row's weight (row_weights),
+// one read a row: a few dozen reads where the ellipse may be thousands of texels long across
+// the flat axis (which does not shrink with the levels of a thin image). Summed in double (an
+// HDR texel near the float maximum cannot overflow it). A level flat across both is one texel.
+// (Out of line: the usual level takes ewa_over, and ewa_average stays inline in sample_ewa.)
+[[gnu::noinline]] Color4 ewa_along_one_axis(const Image& image, const Sampler& s, const EwaEllipse& e, bool flat_s, bool flat_t,
+                                            int& texels) {
+    if (flat_s && flat_t) {
+        texels += 1;
+        return image.texel(0, 0);
+    }
+    const bool node = s.registration == Registration::node;
+    const bool rows = flat_s;  // the sum runs along t (rows), each row's texel in column 0
+    // r = x^2 (a c - b^2/4) / a along t, / c along s.
+    const double centre = rows ? e.ct : e.cs, r_per_x2 = (e.a * e.c - e.b * e.b * 0.25) / (rows ? e.a : e.c);
+    const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
+    const float* const weight_of = row_weights().data();
+    glm::dvec4 sum(0.0);
+    double weight_sum = 0.0;
+    for (int k = first; k <= last; ++k) {
+        const double x = k - centre, r = x * x * r_per_x2;
+        if (!(r < 1.0)) continue;
+        const double weight = weight_of[int(r * (weight_table_size - 1))];
+        const int i = rows ? 0 : wrap_index(s.wrap_u, k, image.width(), node);
+        const int j = rows ? wrap_index(s.wrap_v, k, image.height(), node) : 0;
+        sum += weight * glm::dvec4(reconstruct_detail::texel_or_border(image, s, i, j));
+        weight_sum += weight;
+        ++texels;
+    }
+    // (The row nearest the centre is inside, at r <= 1/4: A >= 1, and the box holds it.)
+    return Color4(sum / weight_sum);
+}
+
+// The Gaussian-weighted mean over the ellipse e on `image`: ewa_along_one_axis on a level one
+// texel across an axis that does not wrap to the border, else ewa_over, summed again in
+// double where the float sum of an HDR image's texels overflowed (8-bit texels and the border
+// colour cannot overflow it).
+[[gnu::always_inline]] inline Color4 ewa_average(const Image& image, const Sampler& s, const EwaEllipse& e, int& texels) {
+    const bool flat_s = image.width() == 1 && s.wrap_u != Wrap::border, flat_t = image.height() == 1 && s.wrap_v != Wrap::border;
+    if (flat_s || flat_t) return ewa_along_one_axis(image, s, e, flat_s, flat_t, texels);
     const Color4 average = ewa_over<false>(image, s, e, texels);
     if (all_finite(average) || !image.is_hdr()) return average;
     int again = 0;

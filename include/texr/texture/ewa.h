@@ -10,6 +10,13 @@
 // when perpendicular) come from the singular values of [d1 d2]; the minor axis is stretched
 // so major/minor <= max_anisotropy (bounding the texels read), the level is chosen so the
 // minor axis spans about one texel, and the results of the two nearest levels are blended.
+// A level one texel across an axis that wraps by repeat, mirror or clamp (a thin image's
+// levels, the coarsest level of any image) does not change along that axis: every cell of a
+// row across it reads one texel, so the sum over the ellipse is taken row by row, each row's
+// texel weighted by the Gaussian integrated along the row's chord of the ellipse, in closed
+// form (ewa.cpp, row_weights): one read a row, where the ellipse can be thousands of texels
+// long across such an axis (it does not shrink with the levels of a thin image). A level one
+// texel across both is that texel.
 #pragma once
 #include <algorithm>
 #include <cmath>
