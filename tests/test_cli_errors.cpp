@@ -1541,6 +1541,32 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
 }
 
+TEST_CASE("texr explain prints HDR values near the float maximum in 6 significant digits, small ones to 5 decimals") {
+    // A 2x2 flat Radiance file (no run-length rows under 8 texels): RGBE (128, 128, 128, 252)
+    // is 128 x 2^(252 - 136) = 2^123 = 1.06338e+37 (10633823966279326983230456482242756608);
+    // (128, 64, 32, 129) is (1, 0.5, 0.25). As %.5f, 2^123 would print 39 digits.
+    const std::string dir = scratch_folder("hdr-explain");
+    for (const auto& [name, rgbe] : {std::pair<std::string, std::string>{"huge", {char(128), char(128), char(128), char(252)}},
+                                     std::pair<std::string, std::string>{"small", {char(128), char(64), char(32), char(129)}}}) {
+        std::string texels;
+        for (int k = 0; k < 4; ++k) texels += rgbe;
+        std::ofstream(dir + "/" + name + ".hdr", std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n" + texels;
+        write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 1 target 0 0 0 fov 90\ntexture t file " + name +
+                                           ".hdr filter nearest\nmaterial m texture t\nquad material m v -2 -2 0 0 0 v 2 -2 0 1 0 "
+                                           "v 2 2 0 1 1 v -2 2 0 0 1\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 4 4");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        if (name == "huge") {
+            CHECK(r.output.find("the filter's value, linear RGBA: (1.06338e+37, 1.06338e+37, 1.06338e+37, 1.00000)") != std::string::npos);
+            CHECK(r.output.find("x texture       (1.06338e+37, 1.06338e+37, 1.06338e+37)") != std::string::npos);
+            CHECK(r.output.find("10633823966279326983230456482242756608") == std::string::npos);
+        } else {
+            CHECK(r.output.find("the filter's value, linear RGBA: (1.00000, 0.50000, 0.25000, 1.00000)") != std::string::npos);
+        }
+    }
+}
+
 TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short inside its rows is refused, not read for ever") {
     // 8x4 texels, each channel of each row one run of 8 (count 128 + 8, then the value): RGBE
     // (128, 64, 32, 129) is 2^(129 - 128) x (128, 64, 32) / 256 = (1, 0.5, 0.25).

@@ -27,6 +27,12 @@ std::string format(const char* pattern, double a = 0, double b = 0, double c = 0
     return out;
 }
 
+// A colour channel: %.5f, or %.6g from 1e6 on (an HDR texel near the float maximum would take
+// 39 digits), in parentheses with its neighbours.
+std::string channel(double x) { return format(std::fabs(x) < 1e6 || !std::isfinite(x) ? "%.5f" : "%.6g", x + 0.0); }  // (no "-0")
+std::string channels(double x, double y, double z) { return "(" + channel(x) + ", " + channel(y) + ", " + channel(z) + ")"; }
+std::string channels(const Color4& c) { return "(" + channel(c.x) + ", " + channel(c.y) + ", " + channel(c.z) + ", " + channel(c.w) + ")"; }
+
 std::string matrix(const glm::dmat3& m, const char* const rows[3]) {
     std::string out;
     for (int r = 0; r < 3; ++r)  // glm is column-major: m[column][row]
@@ -132,7 +138,7 @@ std::string base_taps(const Texture& t, double u, double v) {
     const int w = image.width(), h = image.height();
     const auto value = [&](int i, int j) {
         const Color4 c = i < 0 || j < 0 ? s.border : image.texel(i, j);
-        return format("(%.5f, %.5f, %.5f, %.5f)", c.x, c.y, c.z, c.w);
+        return channels(c);
     };
     const auto at = [](int i, int j) {
         return i < 0 || j < 0 ? std::string("(the border)") : "(" + std::to_string(i) + ", " + std::to_string(j) + ")";
@@ -170,7 +176,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     const Needs needs = needs_of(m, scene);
     const double x = e.x + 0.5, y = e.y + 0.5;
     const auto over_q = [&](const std::array<Plane, 3>& p) { return glm::dvec3(p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)) / q; };
-    const auto rgb = [](const Color& c) { return format("(%.5f, %.5f, %.5f)", c.x + 0.0, c.y + 0.0, c.z + 0.0); };  // (no "-0")
+    const auto rgb = [](const Color& c) { return channels(c.x, c.y, c.z); };
     const bool lit = m.lighting == Lighting::lambert;
     std::string out = std::string("\n6. Shading (lighting ") + (lit ? "lambert" : "none") + "): linear colour = material colour" +
                       (needs & need_uv ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
@@ -238,8 +244,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + "), sampled at its centre " +
                       format("(%.1f, %.1f)\n", x, y);
     if (!e.covered)
-        return out + format("no triangle covers it: the background colour shows, linear (%.5f, %.5f, %.5f)", scene.background.x,
-                            scene.background.y, scene.background.z) +
+        return out + "no triangle covers it: the background colour shows, linear " +
+               channels(scene.background.x, scene.background.y, scene.background.z) +
                format(",\nin the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(scene.background.x),
                       linear_to_srgb8(scene.background.y), linear_to_srgb8(scene.background.z));
 
@@ -356,11 +362,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         out += levels_read(t, d, lambda);
         std::uint64_t texels = 0;
         texel = lookup(t, u, v, d, texels);
-        out += format("    the filter's value, linear RGBA: (%.5f, %.5f, %.5f, %.5f)", texel.x, texel.y, texel.z, texel.w) +
+        out += "    the filter's value, linear RGBA: " + channels(texel) +
                format(" from %.0f texel read", double(texels)) + (texels == 1 ? "\n" : "s\n");
     }
     out += shading(e, scene, m, texel, q);
-    out += format("\n7. Written: depth %.8f, linear colour (%.5f, %.5f, %.5f)", e.depth, e.color.x, e.color.y, e.color.z) +
+    out += format("\n7. Written: depth %.8f, linear colour ", e.depth) + channels(e.color.x, e.color.y, e.color.z) +
            format(",\n   in the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(e.color.x), linear_to_srgb8(e.color.y),
                   linear_to_srgb8(e.color.z));
     return out;
