@@ -834,10 +834,22 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
                        "    each of its texels along u is weighted by the Gaussian integrated along the ellipse's chord\n") !=
               std::string::npos);
     // 181 texels per pixel along v: lambda = log2(181) = 7.4998, levels 7 (2x1) and 8 (1x1).
-    out = explain("t.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 181 0 v 2 2 -2 181 181 v -2 2 -2 0 181");
+    const std::string farther = "v -2 -2 -2 0 0 v 2 -2 -2 181 0 v 2 2 -2 181 181 v -2 2 -2 0 181";
+    out = explain("t.ppm filter ewa", farther);
     CHECK(out.find("= 7.4998: the Gaussian-weighted mean over the ellipse on level 7 (2x1) and level 8 (1x1)") != std::string::npos);
     CHECK(out.find("    level 7 is one texel across v (no border wrap there)") != std::string::npos);
     CHECK(out.find("    level 8 is one texel (no border wrap): the mean over the ellipse is that texel\n") != std::string::npos);
+    // With border on u, level 8 is summed along u (its one texel and the border beyond it).
+    out = explain("t.ppm filter ewa wrap_u border", farther);
+    CHECK(out.find("    level 8 is one texel across v (no border wrap there), so it does not change along v:\n"
+                   "    each of its texels along u, and the border beyond them, is weighted by the Gaussian integrated along the "
+                   "ellipse's chord\n") != std::string::npos);
+    CHECK(out.find("    level 8 is one texel (no border wrap)") == std::string::npos);
+    // 64 texels per pixel along v (UVs 0..64): lambda = 6 exactly, level 6 (4x1) alone.
+    out = explain("t.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 64 0 v 2 2 -2 64 64 v -2 2 -2 0 64");
+    CHECK(out.find("= 6.0000: the Gaussian-weighted mean over the ellipse on level 6 (4x1)\n") != std::string::npos);
+    CHECK(out.find("    level 6 is one texel across v") != std::string::npos);
+    CHECK(out.find("    level 7 is") == std::string::npos);
     out = explain("t.ppm filter ewa wrap_v border", far);
     CHECK(out.find("level 7 (2x1)") != std::string::npos);
     CHECK(out.find("is one texel across") == std::string::npos);

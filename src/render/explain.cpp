@@ -123,8 +123,10 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
             continue;
         }
         const std::string along = across_u ? "u" : "v", other = across_u ? "v" : "u";
+        const bool border_beyond = (across_u ? s.wrap_v : s.wrap_u) == Wrap::border;
         out += level_named + " is one texel across " + along + " (no border wrap there), so it does not change along " + along +
-               ":\n    each of its texels along " + other + " is weighted by the Gaussian integrated along the ellipse's chord\n";
+               ":\n    each of its texels along " + other + (border_beyond ? ", and the border beyond them," : "") +
+               " is weighted by the Gaussian integrated along the ellipse's chord\n";
     }
     return out;
 }

@@ -11,7 +11,8 @@
 // so major/minor <= max_anisotropy (bounding the texels read), the level is chosen so the
 // minor axis spans about one texel, and the results of the two nearest levels are blended.
 // A level one texel across an axis that wraps by repeat, mirror or clamp (a thin image's
-// levels, the coarsest level of any image) does not change along that axis: every cell of a
+// levels; the coarse levels of a non-square image, such as a 256x64 image's 4x1, 2x1 and 1x1)
+// does not change along that axis: every cell of a
 // row across it reads one texel, so the sum over the ellipse is taken row by row, each row's
 // texel weighted by the Gaussian integrated along the row's chord of the ellipse, in closed
 // form (ewa.cpp, row_weights): one read a row, where the ellipse can be thousands of texels
