@@ -852,7 +852,11 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     CHECK(out.find("    level 7 is") == std::string::npos);
     out = explain("t.ppm filter ewa wrap_v border", far);
     CHECK(out.find("level 7 (2x1)") != std::string::npos);
-    CHECK(out.find("is one texel across") == std::string::npos);
+    CHECK(out.find("(no border wrap there)") == std::string::npos);
+    for (const char* l : {"6", "7"})
+        CHECK(out.find(std::string("    level ") + l + " is one texel across v, which wraps to the border: where the ellipse\n"
+                       "    is 32 texels or more across v, each row of its cells is summed as one texel beside the border\n") !=
+              std::string::npos);
 
     // 1024 texels per pixel on the 1024^2 texture (UVs 0..64): lambda = 10, the 1x1 level.
     const std::string detail = source_path("models/textures/detail.png");

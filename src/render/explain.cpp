@@ -116,7 +116,14 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
         const Image& image = mip.level(l);
         const bool across_u = image.width() == 1 && s.wrap_u != Wrap::border;
         const bool across_v = image.height() == 1 && s.wrap_v != Wrap::border;
-        if (!across_u && !across_v) continue;
+        if (!across_u && !across_v) {
+            if (image.width() == 1 || image.height() == 1) {  // (a 1-texel side with border wrap)
+                const std::string along = image.width() == 1 ? "u" : "v";
+                out += "    level " + std::to_string(l) + " is one texel across " + along + ", which wraps to the border: where the ellipse\n" +
+                       "    is 32 texels or more across " + along + ", each row of its cells is summed as one texel beside the border\n";
+            }
+            continue;
+        }
         const std::string level_named = "    level " + std::to_string(l);
         if (across_u && across_v) {
             out += level_named + " is one texel (no border wrap): the mean over the ellipse is that texel\n";
