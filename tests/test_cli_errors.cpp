@@ -824,39 +824,38 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
           std::string::npos);
     // 90 texels per pixel along v, 360 along u (UVs 0..90 over 64 pixels, both axes): EWA's
     // minor axis is 90 texels, lambda = log2(90) = 6.4919, levels 6 (4x1) and 7 (2x1), each one
-    // texel across v. ewa.h sums those levels by their texels along u, each weighted by the
-    // Gaussian along the ellipse's chord across v, unless v wraps to the border.
-    const std::string far = "v -2 -2 -2 0 0 v 2 -2 -2 90 0 v 2 2 -2 90 90 v -2 2 -2 0 90";
-    out = explain("t.ppm filter ewa", far);
+    // texel across v, but the ellipse there only a few texels across v: summed cell by cell,
+    // with no line about it. Likewise levels 7 (2x1) and 8 (1x1) at 181 texels per pixel.
+    out = explain("t.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 90 0 v 2 2 -2 90 90 v -2 2 -2 0 90");
     CHECK(out.find("= 6.4919: the Gaussian-weighted mean over the ellipse on level 6 (4x1) and level 7 (2x1)") != std::string::npos);
-    for (const char* l : {"6", "7"})
-        CHECK(out.find(std::string("    level ") + l + " is one texel across v (no border wrap there), so it does not change along v:\n"
-                       "    each of its texels along u is weighted by the Gaussian integrated along the ellipse's chord\n") !=
-              std::string::npos);
-    // 181 texels per pixel along v: lambda = log2(181) = 7.4998, levels 7 (2x1) and 8 (1x1).
-    const std::string farther = "v -2 -2 -2 0 0 v 2 -2 -2 181 0 v 2 2 -2 181 181 v -2 2 -2 0 181";
-    out = explain("t.ppm filter ewa", farther);
+    CHECK(out.find("is one texel across") == std::string::npos);
+    out = explain("t.ppm filter ewa wrap_v border", "v -2 -2 -2 0 0 v 2 -2 -2 181 0 v 2 2 -2 181 181 v -2 2 -2 0 181");
     CHECK(out.find("= 7.4998: the Gaussian-weighted mean over the ellipse on level 7 (2x1) and level 8 (1x1)") != std::string::npos);
-    CHECK(out.find("    level 7 is one texel across v (no border wrap there)") != std::string::npos);
-    CHECK(out.find("    level 8 is one texel (no border wrap): the mean over the ellipse is that texel\n") != std::string::npos);
-    // With border on u, level 8 is summed along u (its one texel and the border beyond it).
-    out = explain("t.ppm filter ewa wrap_u border", farther);
-    CHECK(out.find("    level 8 is one texel across v (no border wrap there), so it does not change along v:\n"
-                   "    each of its texels along u, and the border beyond them, is weighted by the Gaussian integrated along the "
-                   "ellipse's chord\n") != std::string::npos);
-    CHECK(out.find("    level 8 is one texel (no border wrap)") == std::string::npos);
-    // 64 texels per pixel along v (UVs 0..64): lambda = 6 exactly, level 6 (4x1) alone.
-    out = explain("t.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 64 0 v 2 2 -2 64 64 v -2 2 -2 0 64");
-    CHECK(out.find("= 6.0000: the Gaussian-weighted mean over the ellipse on level 6 (4x1)\n") != std::string::npos);
-    CHECK(out.find("    level 6 is one texel across v") != std::string::npos);
-    CHECK(out.find("    level 7 is") == std::string::npos);
-    out = explain("t.ppm filter ewa wrap_v border", far);
-    CHECK(out.find("level 7 (2x1)") != std::string::npos);
-    CHECK(out.find("(no border wrap there)") == std::string::npos);
-    for (const char* l : {"6", "7"})
-        CHECK(out.find(std::string("    level ") + l + " is one texel across v, which wraps to the border: where the ellipse\n"
-                       "    is 32 texels or more across v, each row of its cells is summed as one texel beside the border\n") !=
-              std::string::npos);
+    CHECK(out.find("is one texel across") == std::string::npos);
+    // A 1x64 texture under 64 image widths per pixel along u (UVs 0..4096) and 1 texel along v:
+    // EWA's minor axis stretched to 64 / 16 = 4 texels, lambda = 2 exactly, level 2 (1x16)
+    // alone, the ellipse about 90 cells across u there: summed row by row (ewa.h). At 6000
+    // widths per pixel, lambda = log2(6000 / 1024) = 2.5507, levels 2 and 3 (1x8). The same
+    // texture turned (64x1, UVs along v): column by column.
+    std::string thin = "P6\n1 64\n255\n";
+    for (int k = 0; k < 64 * 3; ++k) thin += char(k * 5 % 256);
+    write_text(dir + "/thin.ppm", thin);
+    write_text(dir + "/wide.ppm", "P6\n64 1\n255\n" + thin.substr(std::string("P6\n1 64\n255\n").size()));
+    const std::string along_u = "v -2 -2 -2 0 0 v 2 -2 -2 4096 0 v 2 2 -2 4096 1 v -2 2 -2 0 1";
+    const std::string by_rows = "    level 2 is one texel across u, and the ellipse 64 texels or more across it: summed\n    row by row along v, ";
+    out = explain("thin.ppm filter ewa", along_u);
+    CHECK(out.find("= 2.0000: the Gaussian-weighted mean over the ellipse on level 2 (1x16)\n") != std::string::npos);
+    CHECK(out.find(by_rows + "each row's texel weighted by the Gaussian integrated along its chord\n") != std::string::npos);
+    CHECK(out.find("    level 3 is") == std::string::npos);
+    out = explain("thin.ppm filter ewa wrap_u border", along_u);
+    CHECK(out.find(by_rows + "each row's one texel beside the border (u wraps to the border)\n") != std::string::npos);
+    out = explain("thin.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 6000 0 v 2 2 -2 6000 1 v -2 2 -2 0 1");
+    CHECK(out.find("= 2.5507: the Gaussian-weighted mean over the ellipse on level 2 (1x16) and level 3 (1x8)") != std::string::npos);
+    CHECK(out.find("    level 3 is one texel across u, and the ellipse 64 texels or more across it: summed\n") != std::string::npos);
+    out = explain("wide.ppm filter ewa wrap_v border", "v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 4096 v -2 2 -2 0 4096");
+    CHECK(out.find("= 2.0000: the Gaussian-weighted mean over the ellipse on level 2 (16x1)\n") != std::string::npos);
+    CHECK(out.find("    level 2 is one texel across v, and the ellipse 64 texels or more across it: summed\n    column by column along u, "
+                   "each column's one texel beside the border (v wraps to the border)\n") != std::string::npos);
 
     // 1024 texels per pixel on the 1024^2 texture (UVs 0..64): lambda = 10, the 1x1 level.
     const std::string detail = source_path("models/textures/detail.png");
@@ -1557,30 +1556,42 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
 }
 
-TEST_CASE("texr explain prints HDR values near the float maximum in 6 significant digits, small ones to 5 decimals") {
+TEST_CASE("texr explain prints HDR values near the float maximum in 6 significant digits, small ones to 5 decimals, NaN as nan") {
     // A 2x2 flat Radiance file (no run-length rows under 8 texels): RGBE (128, 128, 128, 252)
     // is 128 x 2^(252 - 136) = 2^123 = 1.06338e+37 (10633823966279326983230456482242756608);
     // (128, 64, 32, 129) is (1, 0.5, 0.25). As %.5f, 2^123 would print 39 digits.
     const std::string dir = scratch_folder("hdr-explain");
+    // explain at the centre of a square filling the view, textured with `texture` under the
+    // material options and scene lines given.
+    const auto explain = [&](const std::string& texture, const std::string& material = "", const std::string& lines = "") {
+        write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 1 target 0 0 0 fov 90\n" + lines + "texture t file " + texture +
+                                           " filter nearest\nmaterial m texture t" + material +
+                                           "\nquad material m v -2 -2 0 0 0 v 2 -2 0 1 0 v 2 2 0 1 1 v -2 2 0 0 1\n");
+        RunResult r = run_texr("explain " + dir + "/scene.txt 4 4");
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
     for (const auto& [name, rgbe] : {std::pair<std::string, std::string>{"huge", {char(128), char(128), char(128), char(252)}},
                                      std::pair<std::string, std::string>{"small", {char(128), char(64), char(32), char(129)}}}) {
         std::string texels;
         for (int k = 0; k < 4; ++k) texels += rgbe;
         std::ofstream(dir + "/" + name + ".hdr", std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n" + texels;
-        write_text(dir + "/scene.txt", "size 8 8\ncamera eye 0 0 1 target 0 0 0 fov 90\ntexture t file " + name +
-                                           ".hdr filter nearest\nmaterial m texture t\nquad material m v -2 -2 0 0 0 v 2 -2 0 1 0 "
-                                           "v 2 2 0 1 1 v -2 2 0 0 1\n");
-        const RunResult r = run_texr("explain " + dir + "/scene.txt 4 4");
-        CAPTURE(r.output);
-        CHECK(r.exit_code == 0);
+        const std::string out = explain(name + ".hdr");
+        CAPTURE(out);
         if (name == "huge") {
-            CHECK(r.output.find("the filter's value, linear RGBA: (1.06338e+37, 1.06338e+37, 1.06338e+37, 1.00000)") != std::string::npos);
-            CHECK(r.output.find("x texture       (1.06338e+37, 1.06338e+37, 1.06338e+37)") != std::string::npos);
-            CHECK(r.output.find("10633823966279326983230456482242756608") == std::string::npos);
+            CHECK(out.find("the filter's value, linear RGBA: (1.06338e+37, 1.06338e+37, 1.06338e+37, 1.00000)") != std::string::npos);
+            CHECK(out.find("x texture       (1.06338e+37, 1.06338e+37, 1.06338e+37)") != std::string::npos);
+            CHECK(out.find("10633823966279326983230456482242756608") == std::string::npos);
         } else {
-            CHECK(r.output.find("the filter's value, linear RGBA: (1.00000, 0.50000, 0.25000, 1.00000)") != std::string::npos);
+            CHECK(out.find("the filter's value, linear RGBA: (1.00000, 0.50000, 0.25000, 1.00000)") != std::string::npos);
         }
     }
+    // The huge texel lit from behind: colour x texture overflows to inf, times an irradiance
+    // of 0 that is NaN, printed "nan" (printf's own form carries the sign: "-nan").
+    const std::string lit = explain("huge.hdr", " color 1000 1000 1000 lighting lambert", "light directional 0 0 1\n");
+    CAPTURE(lit);
+    CHECK(lit.find("    x irradiance    (0.00000, 0.00000, 0.00000)\n    = (nan, nan, nan)\n") != std::string::npos);
+    CHECK(lit.find("-nan") == std::string::npos);
 }
 
 TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short inside its rows is refused, not read for ever") {

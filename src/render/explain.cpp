@@ -28,8 +28,13 @@ std::string format(const char* pattern, double a = 0, double b = 0, double c = 0
 }
 
 // A colour channel: %.5f, or %.6g from 1e6 on (an HDR texel near the float maximum would take
-// 39 digits), in parentheses with its neighbours.
-std::string channel(double x) { return format(std::fabs(x) < 1e6 || !std::isfinite(x) ? "%.5f" : "%.6g", x + 0.0); }  // (no "-0")
+// 39 digits), in parentheses with its neighbours. No "-0.00000" (for -0 or a tiny negative
+// value) and no "-nan".
+std::string channel(double x) {
+    if (std::isnan(x)) return "nan";
+    const std::string shown = format(std::fabs(x) < 1e6 || !std::isfinite(x) ? "%.5f" : "%.6g", x);
+    return shown == "-0.00000" ? "0.00000" : shown;
+}
 std::string channels(double x, double y, double z) { return "(" + channel(x) + ", " + channel(y) + ", " + channel(z) + ")"; }
 std::string channels(const Color4& c) { return "(" + channel(c.x) + ", " + channel(c.y) + ", " + channel(c.z) + ", " + channel(c.w) + ")"; }
 
@@ -52,7 +57,7 @@ const char* wrap_name(Wrap w) {
 
 // The mip levels the texture's filter reads at this pixel, worked out as the samplers do
 // (minify.h, ewa.h), with lambda the level of detail of the lecture's formula.
-std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda) {
+std::string levels_read(const Texture& t, double u, double v, const UVDerivatives& d, double lambda) {
     const MipMap& mip = *t.mipmap;
     const Sampler& s = t.sampler;
     const int last = mip.level_count() - 1;
@@ -108,32 +113,20 @@ std::string levels_read(const Texture& t, const UVDerivatives& d, double lambda)
     if (at.lambda >= double(last))
         return out + "at or beyond the coarsest level (the ellipse would cover the image): bilinear on " + level(last) + "\n";
     out += "the Gaussian-weighted mean over the ellipse on " + two_levels(at.lambda, true) + "\n";
-    // Levels one texel across an axis that does not wrap to the border (ewa.h): summed row by
-    // row across that axis.
+    // Levels summed along one axis (ewa.h, EwaSum), as sample_ewa sums them at this lookup.
     const int l0 = int(at.lambda);
     for (int l = l0; l <= std::min(l0 + 1, last); ++l) {
         if (l > l0 && at.lambda == double(l0)) break;
-        const Image& image = mip.level(l);
-        const bool across_u = image.width() == 1 && s.wrap_u != Wrap::border;
-        const bool across_v = image.height() == 1 && s.wrap_v != Wrap::border;
-        if (!across_u && !across_v) {
-            if (image.width() == 1 || image.height() == 1) {  // (a 1-texel side with border wrap)
-                const std::string along = image.width() == 1 ? "u" : "v";
-                out += "    level " + std::to_string(l) + " is one texel across " + along + ", which wraps to the border: where the ellipse\n" +
-                       "    is 32 texels or more across " + along + ", each row of its cells is summed as one texel beside the border\n";
-            }
-            continue;
-        }
-        const std::string level_named = "    level " + std::to_string(l);
-        if (across_u && across_v) {
-            out += level_named + " is one texel (no border wrap): the mean over the ellipse is that texel\n";
-            continue;
-        }
-        const std::string along = across_u ? "u" : "v", other = across_u ? "v" : "u";
-        const bool border_beyond = (across_u ? s.wrap_v : s.wrap_u) == Wrap::border;
-        out += level_named + " is one texel across " + along + " (no border wrap there), so it does not change along " + along +
-               ":\n    each of its texels along " + other + (border_beyond ? ", and the border beyond them," : "") +
-               " is weighted by the Gaussian integrated along the ellipse's chord\n";
+        const EwaSum sum = ewa_sum_on_level(mip, s, u, v, d, l);
+        if (sum == EwaSum::cells) continue;
+        const bool rows = sum == EwaSum::rows || sum == EwaSum::rows_beside_border;
+        const std::string across = rows ? "u" : "v", along = rows ? "v" : "u", line = rows ? "row" : "column";
+        out += "    level " + std::to_string(l) + " is one texel across " + across + ", and the ellipse 64 texels or more across it: summed\n";
+        if (sum == EwaSum::rows || sum == EwaSum::columns)
+            out += "    " + line + " by " + line + " along " + along + ", each " + line + "'s texel weighted by the Gaussian integrated along its chord\n";
+        else
+            out += "    " + line + " by " + line + " along " + along + ", each " + line + "'s one texel beside the border (" + across +
+                   " wraps to the border)\n";
     }
     return out;
 }
@@ -368,7 +361,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                    (lambda > 0 ? "(minified)\n" : "(magnified or 1:1)\n");
         else  // level_of_detail's answer for a footprint of zero (or NaN) length
             out += "    level of detail: no footprint (u and v do not change here): magnified\n";
-        out += levels_read(t, d, lambda);
+        out += levels_read(t, u, v, d, lambda);
         std::uint64_t texels = 0;
         texel = lookup(t, u, v, d, texels);
         out += "    the filter's value, linear RGBA: " + channels(texel) +

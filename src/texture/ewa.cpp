@@ -345,21 +345,34 @@ const std::array<float, weight_table_size>& row_weights() {
     return table;
 }
 
-// EWA over a level one texel across s (flat_s: its width is 1 and wrap_u repeats, mirrors or
-// clamps, so every cell of a row reads the row's texel) or across t (flat_t, the same for
-// columns; ewa.h). The ellipse's sum is each row's texel times the row's weight (row_weights),
-// one read a row: a few dozen reads where the ellipse may be thousands of texels long across
-// the flat axis (which does not shrink with the levels of a thin image). Summed in double (an
-// HDR texel near the float maximum cannot overflow it). A level flat across both is one texel.
+// From this many cells of the ellipse's box across a level's one texel, ewa_average sums the
+// ellipse along the other axis, one read a row (ewa_sum_for): there the row's cells, which
+// the box makes thousands long on a thin image's level, sum to nearly the row's integral.
+// Measured against the cell sum (texel 1 against border 0, the largest difference an 8-bit
+// texture has; sheared ellipses, both registrations): within 9.4e-4 of it from 32 cells,
+// 3.8e-4 from 64, 1.8e-4 from 128, as a share of |texel - border|. Fewer cells: the cell sum.
+constexpr int rows_from = 64;
+
+// How ewa_average sums the ellipse e on `image` (ewa.h, EwaSum): row by row where the level is
+// one texel across s and the box rows_from cells or more across it, column by column likewise
+// across t, along whichever of the two is shorter where both are; else cell by cell.
+[[gnu::always_inline]] inline EwaSum ewa_sum_for(const Image& image, const Sampler& s, const EwaEllipse& e) {
+    const bool one_s = image.width() == 1, one_t = image.height() == 1;
+    if (!one_s && !one_t) return EwaSum::cells;  // (the usual level)
+    const int across_s = e.s1 - e.s0 + 1, across_t = e.t1 - e.t0 + 1;
+    const bool by_rows = one_s && across_s >= rows_from, by_columns = one_t && across_t >= rows_from;
+    if (!by_rows && !by_columns) return EwaSum::cells;
+    if (by_rows && (!by_columns || across_t <= across_s)) return s.wrap_u == Wrap::border ? EwaSum::rows_beside_border : EwaSum::rows;
+    return s.wrap_v == Wrap::border ? EwaSum::columns_beside_border : EwaSum::columns;
+}
+
+// EWA over a level one texel across s whose wrap_u repeats, mirrors or clamps (rows = true:
+// every cell of a row reads the row's texel in column 0), or the same across t (rows = false,
+// columns). The ellipse's sum is each row's texel times the row's weight (row_weights), one
+// read a row. Summed in double (an HDR texel near the float maximum cannot overflow it).
 // (Out of line: the usual level takes ewa_over, and ewa_average stays inline in sample_ewa.)
-[[gnu::noinline]] Color4 ewa_along_one_axis(const Image& image, const Sampler& s, const EwaEllipse& e, bool flat_s, bool flat_t,
-                                            int& texels) {
-    if (flat_s && flat_t) {
-        texels += 1;
-        return image.texel(0, 0);
-    }
+[[gnu::noinline]] Color4 ewa_by_rows(const Image& image, const Sampler& s, const EwaEllipse& e, bool rows, int& texels) {
     const bool node = s.registration == Registration::node;
-    const bool rows = flat_s;  // the sum runs along t (rows), each row's texel in column 0
     // r = x^2 (a c - b^2/4) / a along t, / c along s.
     const double centre = rows ? e.ct : e.cs, r_per_x2 = (e.a * e.c - e.b * e.b * 0.25) / (rows ? e.a : e.c);
     const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
@@ -380,25 +393,18 @@ const std::array<float, weight_table_size>& row_weights() {
     return Color4(sum / weight_sum);
 }
 
-// From this many cells across a level's one texel with border wrap, ewa_average sums the
-// ellipse row by row (ewa_beside_border), where a row's cells sum to nearly the row's integral
-// and the one cell that reads the texel is a small part of the row. Measured against the cell
-// sum on 20000 random ellipses over a 1x64 image: within 1.1e-3 (in linear units) from 16
-// cells, 4.7e-4 from 32, 1.7e-4 from 64, 9e-5 from 128; exact below (the cell sum itself).
-constexpr int border_rows_from = 32;
-
-// EWA over a level one texel across s with border wrap (rows = true; across t: columns), under
-// an ellipse border_rows_from cells or more across it: on each row, the cell s = 0 reads the
-// row's texel (column 0) and every other cell the border colour (the level may also be one
-// texel across t, without border: then every row's texel is the one texel). The row's weights sum to the
-// integral of row_weights (m(r) / sqrt(a), in cells), the cell's weight is the Gaussian's at its
-// Q, so the mean is border + sum(cell weight x (texel - border)) / sum(row weights): one read a
-// row where the ellipse is thousands of cells long. In double.
+// EWA over a level one texel across s with border wrap (rows = true; across t: columns): on
+// each row, the cell s = 0 reads the row's texel (column 0) and every other cell the border
+// colour. The row's weights sum to nearly the integral of row_weights (m(r) / sqrt(a), in
+// cells), the cell's weight is the Gaussian's at its Q, so the mean is
+//   border + sum(cell weight x (texel - border)) / sum(row weights),
+// one read a row. In double.
 [[gnu::noinline]] Color4 ewa_beside_border(const Image& image, const Sampler& s, const EwaEllipse& e, bool rows, int& texels) {
     const bool node = s.registration == Registration::node;
     const double a = e.a, b = e.b, c = e.c;
     // Along the row, Q = r + a (s - s*)^2 (row_weights): the row's weights sum to m(r) / sqrt(a)
-    // cells. The cell s = 0 of row t is at (-cs, t - ct) from the centre.
+    // cells. The cell s = 0 of row t is at (-cs, t - ct) from the centre (columns: t = 0 of
+    // column s at (s - cs, -ct)).
     const double r_per_x2 = (a * c - b * b * 0.25) / (rows ? a : c), cells_per_m = 1.0 / std::sqrt(rows ? a : c);
     const double centre = rows ? e.ct : e.cs, to_cell = rows ? -e.cs : -e.ct;
     const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
@@ -423,29 +429,31 @@ constexpr int border_rows_from = 32;
     return Color4(border + sum / weight_sum);
 }
 
-// The Gaussian-weighted mean over the ellipse e on `image`: ewa_along_one_axis on a level one
-// texel across an axis that does not wrap to the border, ewa_beside_border on one that does
-// under an ellipse border_rows_from cells across it, else ewa_over, summed again in double
-// where the float sum of an HDR image's texels overflowed (8-bit texels and the border colour
-// cannot overflow it).
+// The Gaussian-weighted mean over the ellipse e on `image`, summed as ewa_sum_for says:
+// ewa_over cell by cell (summed again in double where the float sum of an HDR image's texels
+// overflowed: 8-bit texels and the border colour cannot overflow it), or along one axis.
 [[gnu::always_inline]] inline Color4 ewa_average(const Image& image, const Sampler& s, const EwaEllipse& e, int& texels) {
-    const bool flat_s = image.width() == 1 && s.wrap_u != Wrap::border, flat_t = image.height() == 1 && s.wrap_v != Wrap::border;
-    // (First: on a 1x1 level that wraps to the border across s and not across t, rows along t
-    // are few where columns along s may be thousands.)
-    const bool beside_s = image.width() == 1 && !flat_s && e.s1 - e.s0 >= border_rows_from;
-    const bool beside_t = image.height() == 1 && !flat_t && e.t1 - e.t0 >= border_rows_from;
-    if (beside_s || beside_t) return ewa_beside_border(image, s, e, beside_s, texels);
-    if (flat_s || flat_t) return ewa_along_one_axis(image, s, e, flat_s, flat_t, texels);
+    switch (ewa_sum_for(image, s, e)) {
+        case EwaSum::cells: break;
+        case EwaSum::rows: return ewa_by_rows(image, s, e, true, texels);
+        case EwaSum::columns: return ewa_by_rows(image, s, e, false, texels);
+        case EwaSum::rows_beside_border: return ewa_beside_border(image, s, e, true, texels);
+        case EwaSum::columns_beside_border: return ewa_beside_border(image, s, e, false, texels);
+    }
     const Color4 average = ewa_over<false>(image, s, e, texels);
     if (all_finite(average) || !image.is_hdr()) return average;
     int again = 0;
     return ewa_over<true>(image, s, e, again);
 }
 
-}  // namespace
-
-Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels) {
-    texels = 0;
+// The ellipse's conjugate semi-diameters d1, d2 (texture units, times footprint_scale) and
+// its level of detail, from the footprint (sample_ewa's first steps). `measured` is false for
+// a point or a footprint beyond measure.
+struct EwaFootprint {
+    bool measured;
+    double lambda, d1u, d1v, d2u, d2v;
+};
+[[gnu::always_inline]] inline EwaFootprint ewa_footprint(const MipMap& mip, const Sampler& s, const UVDerivatives& d) {
     // Work in base-level texels (of the registration's lattice) so the axes are comparable
     // when W != H.
     const LatticeSize base = lattice_size(mip.base(), s);
@@ -453,37 +461,52 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
     const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major;
-    if (!(major > 0.0) || !std::isfinite(major)) {  // a point, or a footprint beyond measure
-        texels = 4;
-        return sample_bilinear(major > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
-    }
+    if (!(major > 0.0) || !std::isfinite(major)) return {false, major, 0.0, 0.0, 0.0, 0.0};
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of reading an
     // unbounded number of texels). The level: where the minor axis spans about one texel.
     const EwaLevel at_level = ewa_level(major, axes.minor, s.max_anisotropy);
     const double minor = at_level.minor;
     const double a1u = major * axes.major_u, a1v = major * axes.major_v;   // the major axis
     const double a2u = -minor * axes.major_v, a2v = minor * axes.major_u;  // the minor axis
+    const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
+    return {true, at_level.lambda, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h};
+}
+
+}  // namespace
+
+Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels) {
+    texels = 0;
+    const EwaFootprint f = ewa_footprint(mip, s, d);
+    if (!f.measured) {  // a point, or a footprint beyond measure
+        texels = 4;
+        return sample_bilinear(f.lambda > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
+    }
     // That level is blended with the next one. A footprint wider than the coarsest level reads
     // that level's average, as the ellipse there would cover the whole image (and cost
     // without bound).
     const int last = mip.level_count() - 1;
-    const double lambda = at_level.lambda;
+    const double lambda = f.lambda;
     if (lambda >= double(last)) {
         texels = 4;
         return sample_bilinear(mip.level(last), s, u, v);
     }
     const int l0 = int(lambda);
     const float t = float(lambda - l0);
-    const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
-    const double d1u = a1u * inv_w, d1v = a1v * inv_h, d2u = a2u * inv_w, d2v = a2v * inv_h;
     const Image& first = mip.level(l0);
-    const EwaEllipse e0 = ellipse_at_level(first, s, u, v, d1u, d1v, d2u, d2v);
+    const EwaEllipse e0 = ellipse_at_level(first, s, u, v, f.d1u, f.d1v, f.d2u, f.d2v);
     if (t == 0.0f || l0 == last) return ewa_average(first, s, e0, texels);
     const Image& second = mip.level(l0 + 1);
-    const EwaEllipse e1 = ellipse_at_level(second, s, u, v, d1u, d1v, d2u, d2v);
+    const EwaEllipse e1 = ellipse_at_level(second, s, u, v, f.d1u, f.d1v, f.d2u, f.d2v);
     const Color4 a = ewa_average(first, s, e0, texels);
     const Color4 b = ewa_average(second, s, e1, texels);
     return a + t * (b - a);
+}
+
+EwaSum ewa_sum_on_level(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int level) {
+    const EwaFootprint f = ewa_footprint(mip, s, d);
+    if (!f.measured || level < 0 || level >= mip.level_count()) return EwaSum::cells;
+    const Image& image = mip.level(level);
+    return ewa_sum_for(image, s, ellipse_at_level(image, s, u, v, f.d1u, f.d1v, f.d2u, f.d2v));
 }
 
 }  // namespace texr

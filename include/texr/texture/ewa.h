@@ -10,17 +10,21 @@
 // when perpendicular) come from the singular values of [d1 d2]; the minor axis is stretched
 // so major/minor <= max_anisotropy (bounding the texels read), the level is chosen so the
 // minor axis spans about one texel, and the results of the two nearest levels are blended.
-// A level one texel across an axis that wraps by repeat, mirror or clamp (a thin image's
-// levels; the coarse levels of a non-square image, such as a 256x64 image's 4x1, 2x1 and 1x1)
-// does not change along that axis: every cell of a
-// row across it reads one texel, so the sum over the ellipse is taken row by row, each row's
-// texel weighted by the Gaussian integrated along the row's chord of the ellipse, in closed
-// form (ewa.cpp, row_weights): one read a row, where the ellipse can be thousands of texels
-// long across such an axis (it does not shrink with the levels of a thin image). A level one
-// texel across both is that texel. Across an axis that wraps to the border, each row has one
-// cell on the texel and the rest on the border colour: under an ellipse 32 cells or more
-// across that axis, the sum is taken row by row too, the border weighted by the row's
-// integral and the texel by its cell's Gaussian weight (within about 5e-4 of the cell sum).
+// A thin image's levels keep their 1-texel side, so that the ellipse (its minor axis
+// stretched along that side) stays as long across it, in image widths, as on the base level:
+// thousands of cells a row. Where a level is one texel across an axis and the ellipse's box
+// is 64 cells or more across it (EwaSum), the sum is taken along the other axis, one read a
+// row, from what the row's cells read:
+// - repeat, mirror or clamp on that axis: every cell of the row reads the row's texel, weighted
+//   by the Gaussian integrated along the row's chord of the ellipse, in closed form (ewa.cpp,
+//   row_weights);
+// - border: one cell reads the row's texel, weighted as in the cell sum, and the rest the
+//   border colour, weighted by the row's integral less that cell's.
+// The rows' integrals stand for the sums of their cells, whose weights the table rounds (in
+// the tests: within 1.4e-3 of the cell sum where rows of texels meet rows of border of contrast
+// 0.9, under half an 8-bit step; beside the border, within 4e-4 of |texel - border|). Boxes
+// narrower than 64 cells, and every level of an image whose sides both shrink, are summed
+// cell by cell.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -47,5 +51,14 @@ inline EwaLevel ewa_level(double major, double minor, float max_anisotropy) {
 
 // `texels` receives the number of texels read.
 Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels);
+
+// How sample_ewa sums the ellipse on one level (above): cell by cell, or along one axis where
+// the level is one texel across the other and the ellipse's box 64 cells or more across it:
+// rows (along t: one texel across u) or columns (along u), each reading one texel, or that
+// texel beside the border where the 1-texel axis wraps to the border.
+enum class EwaSum { cells, rows, columns, rows_beside_border, columns_beside_border };
+// For texr explain: the sum sample_ewa takes on `level` at this lookup (cells where it reads
+// no ellipse: a point or a footprint beyond measure).
+EwaSum ewa_sum_on_level(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int level);
 
 }  // namespace texr
