@@ -48,7 +48,7 @@ const std::array<float, weight_table_size>& gaussian_weights() {
 // place, below), summed and emptied whenever it fills, and the places of a box's columns.
 // Each holds ewa_list_cells entries, so a thread keeps 96 KiB, whatever the box (the usual box
 // is a few dozen cells, and a list of 4096 is emptied once per lookup; an ellipse at max
-// anisotropy 64 across the lattice's diagonal has a box of about 5000).
+// anisotropy 64 across the lattice's diagonal has a box of up to about 127 x 127).
 constexpr std::size_t ewa_list_cells = std::size_t(1) << 12;
 struct EwaScratch {
     std::vector<double> q = std::vector<double>(ewa_list_cells);
@@ -99,7 +99,7 @@ struct EwaEllipse {
             const LatticePoint p = split_lattice(wrap, x, n, node);
             return double(p.whole) + p.fraction;
         }
-        if (std::isnan(x)) return 0.0;  // (as split_lattice reads NaN)
+        if (std::isnan(x)) return 0.0;  // (NaN: at the image's first texel, inside)
         const double below = -half - 2.0, above = double(n) + half + 2.0;
         // From 1e15 texels on (and at infinity) no fraction is left to keep the ellipse's place
         // on the lattice by (and x + ceil(below - x) would round away from below).
@@ -322,35 +322,56 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     return sum / weight_sum;
 }
 
-// The weight of one row of the ellipse, for a level that does not change along the rows: the
-// Gaussian weight exp(-alpha Q) - exp(-alpha) integrated along the row's chord of Q < 1. On
-// row t, Q = r + a (s - s*)^2 with s* the chord's middle and r = t^2 (a c - b^2/4) / a, the
-// least Q on the row (a, b, c: EwaEllipse's normalised coefficients; r = t^2 / A with A of
-// ewa.h, the ellipse's half-height squared). The chord is |s - s*| < sqrt((1 - r) / a), and
-// with y = (s - s*) sqrt(a) the integral is, up to the factor 1 / sqrt(a) that every row shares,
-//   m(r) = exp(-alpha r) sqrt(pi / alpha) erf(sqrt(alpha (1 - r))) - 2 sqrt(1 - r) exp(-alpha),
-// tabulated at r = k / (size - 1) as the Gaussian is (m(1) = 0). The shear and the ellipse's
-// width along the rows drop out: only its height tells the rows' weights.
-const std::array<float, weight_table_size>& row_weights() {
-    static const std::array<float, weight_table_size> table = [] {
-        std::array<float, weight_table_size> t{};
-        const double alpha = gaussian_alpha, pi = 3.14159265358979323846;
-        for (int i = 0; i < weight_table_size; ++i) {
-            const double r = double(i) / double(weight_table_size - 1), chord = std::sqrt(1.0 - r);
-            t[std::size_t(i)] = float(std::exp(-alpha * r) * std::sqrt(pi / alpha) * std::erf(std::sqrt(alpha) * chord) -
-                                      2.0 * chord * std::exp(-alpha));
-        }
+// The weight of one row of the ellipse, for a level that does not change along the rows: what
+// the row's cells add up to in ewa_over, each weight read from the table at the entry at or
+// below its Q, for a row long enough that its cells stand for its chord. On row t,
+// Q = r + a (s - s*)^2, with s* the chord's middle and r = t^2 (a c - b^2/4) / a the least Q
+// on the row (a, b, c: EwaEllipse's normalised coefficients; r = t^2 / A with A of ewa.h, the
+// ellipse's half-height squared). With y = (s - s*) sqrt(a), the cells whose Q lies in the
+// table's step [j - 1, j) / (n - 1) (n entries w_0 .. w_(n-1), w_(n-1) = 0) cover the y
+// between sqrt((j - 1) / (n - 1) - r) and sqrt(j / (n - 1) - r) on either side, so the row's
+// weight, in cells times sqrt(a) (a factor every row shares), is
+//   W(r) = 2 sum over j > (n - 1) r of sqrt(j / (n - 1) - r) (w_(j-1) - w_j).
+// The term of the first such j has a square root that falls to 0 at the step's end: it is
+// worked out at each lookup; the rest, smooth within a step, is tabulated row_steps + 1 times
+// a step and read linearly (within about 1e-6). The shear and the ellipse's width along the
+// rows drop out: only its height tells the rows' weights.
+constexpr int row_steps = 16;
+struct RowWeights {
+    std::array<double, (weight_table_size - 1) * (row_steps + 1)> rest;  // by step k, then sub-step m
+};
+const RowWeights& row_weight_table() {
+    static const RowWeights table = [] {
+        RowWeights t{};
+        const float* const w = gaussian_weights().data();
+        const double step = 1.0 / double(weight_table_size - 1);
+        for (int k = 0; k < weight_table_size - 1; ++k)
+            for (int m = 0; m <= row_steps; ++m) {
+                const double r = (double(k) + double(m) / row_steps) * step;
+                double rest = 0.0;
+                for (int j = k + 2; j < weight_table_size; ++j)
+                    rest += 2.0 * std::sqrt(std::max(double(j) * step - r, 0.0)) * (double(w[j - 1]) - double(w[j]));
+                t.rest[std::size_t(k * (row_steps + 1) + m)] = rest;
+            }
         return t;
     }();
     return table;
 }
+// W(r) above, for 0 <= r < 1.
+inline double row_weight(double r, const RowWeights& table, const float* w) {
+    const double x = r * double(weight_table_size - 1);
+    const int k = int(x);  // the step r is in: its first term is j = k + 1
+    const double at = (x - double(k)) * row_steps;
+    const int m = int(at);
+    const double* const rest = &table.rest[std::size_t(k * (row_steps + 1) + m)];
+    const double first = 2.0 * std::sqrt((double(k + 1) - x) / double(weight_table_size - 1)) * (double(w[k]) - double(w[k + 1]));
+    return first + rest[0] + (at - double(m)) * (rest[1] - rest[0]);
+}
 
 // From this many cells of the ellipse's box across a level's one texel, ewa_average sums the
-// ellipse along the other axis, one read a row (ewa_sum_for): there the row's cells, which
-// the box makes thousands long on a thin image's level, sum to nearly the row's integral.
-// Measured against the cell sum (texel 1 against border 0, the largest difference an 8-bit
-// texture has; sheared ellipses, both registrations): within 9.4e-4 of it from 32 cells,
-// 3.8e-4 from 64, 1.8e-4 from 128, as a share of |texel - border|. Fewer cells: the cell sum.
+// ellipse along the other axis, one read a line (ewa_sum_for): there a row's cells, which the
+// box makes thousands long on a thin image's level, add up to nearly W(r). Fewer cells: the
+// cell sum, exact and cheap (a narrow box).
 constexpr int rows_from = 64;
 
 // How ewa_average sums the ellipse e on `image` (ewa.h, EwaSum): row by row where the level is
@@ -366,23 +387,25 @@ constexpr int rows_from = 64;
     return s.wrap_v == Wrap::border ? EwaSum::columns_beside_border : EwaSum::columns;
 }
 
-// EWA over a level one texel across s whose wrap_u repeats, mirrors or clamps (rows = true:
-// every cell of a row reads the row's texel in column 0), or the same across t (rows = false,
-// columns). The ellipse's sum is each row's texel times the row's weight (row_weights), one
-// read a row. Summed in double (an HDR texel near the float maximum cannot overflow it).
+// EWA by lines: rows (rows = true) over a level one texel across s whose wrap_u repeats,
+// mirrors or clamps, where every cell of a row reads the row's texel in column 0; columns
+// (rows = false) over one a texel across t likewise. The ellipse's sum is each line's texel
+// times the line's weight W(r), one read a line. Summed in double (an HDR texel near the
+// float maximum cannot overflow it).
 // (Out of line: the usual level takes ewa_over, and ewa_average stays inline in sample_ewa.)
-[[gnu::noinline]] Color4 ewa_by_rows(const Image& image, const Sampler& s, const EwaEllipse& e, bool rows, int& texels) {
+[[gnu::noinline]] Color4 ewa_by_lines(const Image& image, const Sampler& s, const EwaEllipse& e, bool rows, int& texels) {
     const bool node = s.registration == Registration::node;
     // r = x^2 (a c - b^2/4) / a along t, / c along s.
     const double centre = rows ? e.ct : e.cs, r_per_x2 = (e.a * e.c - e.b * e.b * 0.25) / (rows ? e.a : e.c);
     const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
-    const float* const weight_of = row_weights().data();
+    const RowWeights& table = row_weight_table();
+    const float* const weight_of = gaussian_weights().data();
     glm::dvec4 sum(0.0);
     double weight_sum = 0.0;
     for (int k = first; k <= last; ++k) {
         const double x = k - centre, r = x * x * r_per_x2;
         if (!(r < 1.0)) continue;
-        const double weight = weight_of[int(r * (weight_table_size - 1))];
+        const double weight = row_weight(r, table, weight_of);
         const int i = rows ? 0 : wrap_index(s.wrap_u, k, image.width(), node);
         const int j = rows ? wrap_index(s.wrap_v, k, image.height(), node) : 0;
         sum += weight * glm::dvec4(reconstruct_detail::texel_or_border(image, s, i, j));
@@ -395,20 +418,20 @@ constexpr int rows_from = 64;
 
 // EWA over a level one texel across s with border wrap (rows = true; across t: columns): on
 // each row, the cell s = 0 reads the row's texel (column 0) and every other cell the border
-// colour. The row's weights sum to nearly the integral of row_weights (m(r) / sqrt(a), in
-// cells), the cell's weight is the Gaussian's at its Q, so the mean is
+// colour. The row's weights add up to nearly W(r) / sqrt(a) cells, the cell's weight is the
+// Gaussian's at its Q, so the mean is
 //   border + sum(cell weight x (texel - border)) / sum(row weights),
 // one read a row. In double.
 [[gnu::noinline]] Color4 ewa_beside_border(const Image& image, const Sampler& s, const EwaEllipse& e, bool rows, int& texels) {
     const bool node = s.registration == Registration::node;
     const double a = e.a, b = e.b, c = e.c;
-    // Along the row, Q = r + a (s - s*)^2 (row_weights): the row's weights sum to m(r) / sqrt(a)
+    // Along the row, Q = r + a (s - s*)^2 (row_weight): the row's weights add up to W(r) / sqrt(a)
     // cells. The cell s = 0 of row t is at (-cs, t - ct) from the centre (columns: t = 0 of
     // column s at (s - cs, -ct)).
     const double r_per_x2 = (a * c - b * b * 0.25) / (rows ? a : c), cells_per_m = 1.0 / std::sqrt(rows ? a : c);
     const double centre = rows ? e.ct : e.cs, to_cell = rows ? -e.cs : -e.ct;
     const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
-    const float* const row_weight_of = row_weights().data();
+    const RowWeights& table = row_weight_table();
     const float* const weight_of = gaussian_weights().data();
     const glm::dvec4 border(s.border);
     glm::dvec4 sum(0.0);
@@ -416,7 +439,7 @@ constexpr int rows_from = 64;
     for (int k = first; k <= last; ++k) {
         const double x = k - centre, r = x * x * r_per_x2;
         if (!(r < 1.0)) continue;
-        weight_sum += row_weight_of[int(r * (weight_table_size - 1))] * cells_per_m;
+        weight_sum += row_weight(r, table, weight_of) * cells_per_m;
         const double q = rows ? a * to_cell * to_cell + b * to_cell * x + c * x * x : a * x * x + b * x * to_cell + c * to_cell * to_cell;
         if (!(q < 1.0)) continue;
         const int i = rows ? 0 : wrap_index(s.wrap_u, k, image.width(), node);
@@ -435,8 +458,8 @@ constexpr int rows_from = 64;
 [[gnu::always_inline]] inline Color4 ewa_average(const Image& image, const Sampler& s, const EwaEllipse& e, int& texels) {
     switch (ewa_sum_for(image, s, e)) {
         case EwaSum::cells: break;
-        case EwaSum::rows: return ewa_by_rows(image, s, e, true, texels);
-        case EwaSum::columns: return ewa_by_rows(image, s, e, false, texels);
+        case EwaSum::rows: return ewa_by_lines(image, s, e, true, texels);
+        case EwaSum::columns: return ewa_by_lines(image, s, e, false, texels);
         case EwaSum::rows_beside_border: return ewa_beside_border(image, s, e, true, texels);
         case EwaSum::columns_beside_border: return ewa_beside_border(image, s, e, false, texels);
     }
@@ -448,9 +471,9 @@ constexpr int rows_from = 64;
 
 // The ellipse's conjugate semi-diameters d1, d2 (texture units, times footprint_scale) and
 // its level of detail, from the footprint (sample_ewa's first steps). `measured` is false for
-// a point or a footprint beyond measure.
+// a point (major axis 0 or NaN) and for a footprint beyond measure (`beyond`: infinite).
 struct EwaFootprint {
-    bool measured;
+    bool measured, beyond;
     double lambda, d1u, d1v, d2u, d2v;
 };
 [[gnu::always_inline]] inline EwaFootprint ewa_footprint(const MipMap& mip, const Sampler& s, const UVDerivatives& d) {
@@ -461,7 +484,7 @@ struct EwaFootprint {
     // The ellipse's principal axes (footprint_axes: d1 and d2 are its conjugate diameters).
     const FootprintAxes axes = footprint_axes_of(d, w, h);
     const double major = axes.major;
-    if (!(major > 0.0) || !std::isfinite(major)) return {false, major, 0.0, 0.0, 0.0, 0.0};
+    if (!(major > 0.0) || !std::isfinite(major)) return {false, major > 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     // Clamp the eccentricity: stretch the minor axis (this blurs a little instead of reading an
     // unbounded number of texels). The level: where the minor axis spans about one texel.
     const EwaLevel at_level = ewa_level(major, axes.minor, s.max_anisotropy);
@@ -469,7 +492,7 @@ struct EwaFootprint {
     const double a1u = major * axes.major_u, a1v = major * axes.major_v;   // the major axis
     const double a2u = -minor * axes.major_v, a2v = minor * axes.major_u;  // the minor axis
     const double inv_w = footprint_scale / w, inv_h = footprint_scale / h;
-    return {true, at_level.lambda, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h};
+    return {true, false, at_level.lambda, a1u * inv_w, a1v * inv_h, a2u * inv_w, a2v * inv_h};
 }
 
 }  // namespace
@@ -477,9 +500,9 @@ struct EwaFootprint {
 Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels) {
     texels = 0;
     const EwaFootprint f = ewa_footprint(mip, s, d);
-    if (!f.measured) {  // a point, or a footprint beyond measure
+    if (!f.measured) {  // a point (the base level), or a footprint beyond measure (the coarsest)
         texels = 4;
-        return sample_bilinear(f.lambda > 0.0 ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
+        return sample_bilinear(f.beyond ? mip.level(mip.level_count() - 1) : mip.base(), s, u, v);
     }
     // That level is blended with the next one. A footprint wider than the coarsest level reads
     // that level's average, as the ellipse there would cover the whole image (and cost
