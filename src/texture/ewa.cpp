@@ -78,6 +78,7 @@ struct EwaEllipse {
     // The diameters on this level's lattice (node registration: its n - 1 spacings).
     const LatticeSize lattice = lattice_size(image, s);
     d1u *= lattice.width, d2u *= lattice.width, d1v *= lattice.height, d2v *= lattice.height;
+
     // Ellipse coefficients, normalised so the boundary is Q = 1.
     double a = d1v * d1v + d2v * d2v + 1.0;
     double b = -2.0 * (d1u * d1v + d2u * d2v);
@@ -389,7 +390,7 @@ constexpr int rows_from = 64;
 
 // EWA by lines: rows (rows = true) over a level one texel across s whose wrap_u repeats,
 // mirrors or clamps, where every cell of a row reads the row's texel in column 0; columns
-// (rows = false) over one a texel across t likewise. The ellipse's sum is each line's texel
+// (rows = false) over a level one texel across t likewise. The ellipse's sum is each line's texel
 // times the line's weight W(r), one read a line. Summed in double (an HDR texel near the
 // float maximum cannot overflow it).
 // (Out of line: the usual level takes ewa_over, and ewa_average stays inline in sample_ewa.)
@@ -426,9 +427,9 @@ constexpr int rows_from = 64;
     const bool node = s.registration == Registration::node;
     const double a = e.a, b = e.b, c = e.c;
     // Along the row, Q = r + a (s - s*)^2 (row_weight): the row's weights add up to W(r) / sqrt(a)
-    // cells. The cell s = 0 of row t is at (-cs, t - ct) from the centre (columns: t = 0 of
-    // column s at (s - cs, -ct)).
-    const double r_per_x2 = (a * c - b * b * 0.25) / (rows ? a : c), cells_per_m = 1.0 / std::sqrt(rows ? a : c);
+    // (per_cell: W is in cells times sqrt(a)). The cell s = 0 of row t is at (-cs, t - ct) from
+    // the centre (columns: t = 0 of column s at (s - cs, -ct)).
+    const double r_per_x2 = (a * c - b * b * 0.25) / (rows ? a : c), per_cell = 1.0 / std::sqrt(rows ? a : c);
     const double centre = rows ? e.ct : e.cs, to_cell = rows ? -e.cs : -e.ct;
     const int first = rows ? e.t0 : e.s0, last = rows ? e.t1 : e.s1;
     const RowWeights& table = row_weight_table();
@@ -439,7 +440,7 @@ constexpr int rows_from = 64;
     for (int k = first; k <= last; ++k) {
         const double x = k - centre, r = x * x * r_per_x2;
         if (!(r < 1.0)) continue;
-        weight_sum += row_weight(r, table, weight_of) * cells_per_m;
+        weight_sum += row_weight(r, table, weight_of) * per_cell;
         const double q = rows ? a * to_cell * to_cell + b * to_cell * x + c * x * x : a * x * x + b * x * to_cell + c * to_cell * to_cell;
         if (!(q < 1.0)) continue;
         const int i = rows ? 0 : wrap_index(s.wrap_u, k, image.width(), node);
