@@ -842,7 +842,7 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     write_text(dir + "/thin.ppm", thin);
     write_text(dir + "/wide.ppm", "P6\n64 1\n255\n" + thin.substr(std::string("P6\n1 64\n255\n").size()));
     const std::string along_u = "v -2 -2 -2 0 0 v 2 -2 -2 4096 0 v 2 2 -2 4096 1 v -2 2 -2 0 1";
-    const std::string by_rows = "    level 2 is one texel across u, and the ellipse's box 64 cells or more across it: summed\n    row by row along v, ";
+    const std::string by_rows = "    level 2 is one texel across u, and the ellipse's middle row 64 cells or more: summed\n    row by row along v, ";
     out = explain("thin.ppm filter ewa", along_u);
     CHECK(out.find("= 2.0000: the Gaussian-weighted mean over the ellipse on level 2 (1x16)\n") != std::string::npos);
     CHECK(out.find(by_rows + "each row's texel weighted by its cells' weights together\n") != std::string::npos);
@@ -851,7 +851,7 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     CHECK(out.find(by_rows + "each row's one texel beside the border (u wraps to the border)\n") != std::string::npos);
     out = explain("thin.ppm filter ewa", "v -2 -2 -2 0 0 v 2 -2 -2 6000 0 v 2 2 -2 6000 1 v -2 2 -2 0 1");
     CHECK(out.find("= 2.5507: the Gaussian-weighted mean over the ellipse on level 2 (1x16) and level 3 (1x8)") != std::string::npos);
-    CHECK(out.find("    level 3 is one texel across u, and the ellipse's box 64 cells or more across it: summed\n") != std::string::npos);
+    CHECK(out.find("    level 3 is one texel across u, and the ellipse's middle row 64 cells or more: summed\n") != std::string::npos);
     // A 2x64 texture under 55 image widths per pixel along u (UVs 0..3520: 110 base texels)
     // and 1 texel along v, max anisotropy 64: the minor axis stretched to 110 / 64 = 1.72,
     // lambda = 0.7814, levels 0 (2x64: summed cell by cell) and 1 (1x32, the ellipse about 77
@@ -861,11 +861,11 @@ TEST_CASE("texr explain on a sheared footprint over a 256x64 texture, at the coa
     write_text(dir + "/narrow.ppm", narrow);
     out = explain("narrow.ppm filter ewa max_anisotropy 64", "v -2 -2 -2 0 0 v 2 -2 -2 3520 0 v 2 2 -2 3520 1 v -2 2 -2 0 1");
     CHECK(out.find("= 0.7814: the Gaussian-weighted mean over the ellipse on level 0 (2x64) and level 1 (1x32)") != std::string::npos);
-    CHECK(out.find("    level 1 is one texel across u, and the ellipse's box 64 cells or more across it: summed\n") != std::string::npos);
+    CHECK(out.find("    level 1 is one texel across u, and the ellipse's middle row 64 cells or more: summed\n") != std::string::npos);
     CHECK(out.find("    level 0 is") == std::string::npos);
     out = explain("wide.ppm filter ewa wrap_v border", "v -2 -2 -2 0 0 v 2 -2 -2 1 0 v 2 2 -2 1 4096 v -2 2 -2 0 4096");
     CHECK(out.find("= 2.0000: the Gaussian-weighted mean over the ellipse on level 2 (16x1)\n") != std::string::npos);
-    CHECK(out.find("    level 2 is one texel across v, and the ellipse's box 64 cells or more across it: summed\n    column by column along u, "
+    CHECK(out.find("    level 2 is one texel across v, and the ellipse's middle row 64 cells or more: summed\n    column by column along u, "
                    "each column's one texel beside the border (v wraps to the border)\n") != std::string::npos);
 
     // 1024 texels per pixel on the 1024^2 texture (UVs 0..64): lambda = 10, the 1x1 level.

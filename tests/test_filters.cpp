@@ -1183,9 +1183,14 @@ TEST_CASE("EWA on levels one texel across: sheared ellipses, both registrations,
                             const double cs = node ? u * (lw - 1) : u * lw - 0.5, ct = node ? v * (lh - 1) : v * lh - 0.5;
                             const int across_s = count(cs, std::sqrt(d1u * d1u + d2u * d2u + 1.0));
                             const int across_t = count(ct, std::sqrt(d1v * d1v + d2v * d2v + 1.0));
-                            // Along one axis where the level is one texel across the other and the box
-                            // 64 cells or more across it (the shorter way where both are).
-                            const bool by_rows = lw == 1 && across_s >= 64, by_columns = lh == 1 && across_t >= 64;
+                            // Along one axis where the level is one texel across the other and the
+                            // ellipse's middle row (column) 64 cells or more long: 2 sqrt(F / A) cells
+                            // (2 sqrt(F / C)), where Q / F = A s^2 / F at t = 0 reaches 1 (the shorter
+                            // way, by the box, where both are).
+                            const double A = d1v * d1v + d2v * d2v + 1.0, C = d1u * d1u + d2u * d2u + 1.0;
+                            const double F = A * C - (d1u * d1v + d2u * d2v) * (d1u * d1v + d2u * d2v);
+                            const bool by_rows = lw == 1 && 2.0 * std::sqrt(F / A) >= 64.0;
+                            const bool by_columns = lh == 1 && 2.0 * std::sqrt(F / C) >= 64.0;
                             const bool rows = by_rows && (!by_columns || across_t <= across_s), columns = !rows && by_columns;
                             // Beside the border: the cells' sum is the reference, within 4e-4.
                             const bool beside = (rows && wrap_u == Wrap::border) || (columns && wrap_v == Wrap::border);
@@ -1235,6 +1240,9 @@ TEST_CASE("EWA on levels one texel across: sheared ellipses, both registrations,
                         for (int c = 0; c < 4; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(tolerance));
                         ++compared;
                         if (rows_read > 0) ++by_rows;
+                        // The texels read tell the sums taken: one a row, or each cell inside (beside
+                        // the border, whose reads are not the cells', aside).
+                        if (!beside_border && !near_edge && f != 0.0f) CHECK(texels == rows_read + cells_inside);
                         const Color4 cells = rows_or_cells(l0, true) + f * (rows_or_cells(l0 + 1, true) - rows_or_cells(l0, true));
                         for (int c = 0; c < 3; ++c) largest_gap = std::max(largest_gap, double(std::fabs(cells[c] - got[c])));
                     }
@@ -1247,19 +1255,21 @@ TEST_CASE("EWA on levels one texel across: sheared ellipses, both registrations,
 }
 
 TEST_CASE("EWA on a 1x1 level whose box is 64 cells or more both ways sums along the shorter way") {
-    // A 1x16384 image, a footprint 10^6 base texels long at 60 degrees to u (in base texels:
+    // A 1x16384 image, a footprint 10^6 base texels long along v (in base texels:
     // u in image widths, v in texels), max anisotropy 64: the minor axis stretched to 15625,
-    // lambda = log2(15625) = 13.93, levels 13 (1x2) and 14 (1x1). On level 14 the ellipse's box
-    // is about 700000 cells across u and 75 across v: rows along v, one read a row (each row's
-    // texel: the image's mean); on level 13, about 700000 by 150. So a few hundred reads, and
-    // on each level the rows weighted by W(r), r = (j - ct)^2 / A (row_weight_by_definition).
+    // lambda = log2(15625) = 13.93, levels 13 (1x2) and 14 (1x1). On level 14 the ellipse is
+    // about 22000 cells across u and 85 across v, its middle row and column both 64 cells or
+    // more: rows along v (the box's shorter side), one read a row (each row's texel: the
+    // image's mean); on level 13, about 22000 by 170. So a few hundred reads (columns would be
+    // tens of thousands), and on each level the rows weighted by W(r), r = (j - ct)^2 / A
+    // (row_weight_by_definition).
     std::mt19937_64 rng(71);
     std::vector<std::uint8_t> bytes(16384 * 4);
     for (auto& byte : bytes) byte = std::uint8_t(rng() % 256);
     const MipMap mip(std::make_shared<Image>(Image::ldr(1, 16384, ColorSpace::srgb, bytes)));
     Sampler s;
     s.max_anisotropy = 64.0f;
-    const double angle = 60.0 * M_PI / 180.0, major = 1e6, minor = major / 64.0;
+    const double angle = 90.0 * M_PI / 180.0, major = 1e6, minor = major / 64.0;
     const glm::dvec2 a1 = major * glm::dvec2(std::cos(angle), std::sin(angle)), a2 = minor * glm::dvec2(-std::sin(angle), std::cos(angle));
     const double lambda = std::log2(minor), u = 0.3, v = 0.45;
     const int l0 = int(lambda);
@@ -1308,15 +1318,15 @@ TEST_CASE("EWA with no footprint reads the base level bilinearly, with one beyon
 }
 
 TEST_CASE("EWA beside the border: a 1-texel side with border wrap under a wide ellipse, row by row and column by column, worked out by hand") {
-    // ewa.h: on a level one texel across u with border wrap, under an ellipse 64 cells or more
-    // across u, each row j of the ellipse has one cell (s = 0) on the row's texel and the rest
+    // ewa.h: on a level one texel across u with border wrap, under an ellipse whose middle row
+    // is 64 cells or more long, each row j of the ellipse has one cell (s = 0) on the row's texel and the rest
     // on the border colour; the row's weights add up to W(r_j) / sqrt(a) cells (what a long
     // row's cells add up to: row_weight_by_definition; r_j = (j - ct)^2 / A, a = A / F), and
     // the cell's weight is the Gaussian's at its own Q. So the mean is
     //   border + sum_j w0_j (texel_j - border) / sum_j W(r_j) / sqrt(a),
     // worked out here from the footprint. A 1x64 image, lambda = 2 exactly (a minor axis of 4
-    // base texels), level 2 (1x16); the ellipse sheared (its major axis at 10 degrees to u),
-    // about 80 cells across u. The same transposed: a 64x1 image with border on v, summed
+    // base texels), level 2 (1x16); the ellipse sheared (its major axis at 3 degrees to u),
+    // its middle row about 77 cells long. The same transposed: a 64x1 image with border on v, summed
     // column by column (C, c and the cell t = 0 in place of A, a and s = 0). The centres put
     // the texel's cell near the middle (a texel's share of a few per cent) and several cells
     // off it (where a wrong sign of the shear term would show).
@@ -1337,7 +1347,7 @@ TEST_CASE("EWA beside the border: a 1-texel side with border wrap under a wide e
                     s.registration = registration;
                     s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
                     const double n = node ? 63.0 : 64.0;  // the long side's base lattice (the other: 1 either way)
-                    const double angle = 10.0 * M_PI / 180.0;
+                    const double angle = 3.0 * M_PI / 180.0;
                     // (p, q): components across the 1-texel side and along the long one.
                     const glm::dvec2 p1 = 60.0 * glm::dvec2(std::cos(angle), std::sin(angle)), p2 = 4.0 * glm::dvec2(-std::sin(angle), std::cos(angle));
                     const Image& level = mip.level(2);
@@ -1348,7 +1358,7 @@ TEST_CASE("EWA beside the border: a 1-texel side with border wrap under a wide e
                     // P = d1q^2 + d2q^2 + 1 (the coefficient of p^2), S = d1p^2 + d2p^2 + 1.
                     const double P = d1q * d1q + d2q * d2q + 1.0, R = -2.0 * (d1p * d1q + d2p * d2q), S = d1p * d1p + d2p * d2p + 1.0;
                     const double F = P * S - R * R / 4.0, pn = P / F, rn = R / F, sn = S / F;
-                    REQUIRE(2.0 * std::sqrt(S) > 70.0);
+                    REQUIRE(2.0 * std::sqrt(F / P) > 70.0);  // (the middle row, 2 / sqrt(pn) cells: 64 or more)
                     const double cp = node ? 0.0 : across - 0.5, cq = node ? along * 15.0 : along * 16.0 - 0.5;
                     glm::dvec4 share(0.0);
                     double row_sum = 0.0;
@@ -1382,6 +1392,27 @@ TEST_CASE("EWA beside the border: a 1-texel side with border wrap under a wide e
                     CHECK(texels < 10);  // (one read a row; about 3 rows)
                 }
     CHECK(off_middle >= 2);  // (the cell 2.8 off the middle is inside the ellipse somewhere)
+
+    // At 10 degrees the ellipse is more sheared: its box is still about 83 cells across u, but
+    // its middle row only 2 sqrt(F / A) = 46 long, so it is summed cell by cell.
+    Sampler s;
+    s.wrap_u = Wrap::border;
+    s.border = Color4(0.9f, 0.1f, 0.4f, 1.0f);
+    const double angle = 10.0 * M_PI / 180.0;
+    const glm::dvec2 a1 = 60.0 * glm::dvec2(std::cos(angle), std::sin(angle)), a2 = 4.0 * glm::dvec2(-std::sin(angle), std::cos(angle));
+    const double d1u = 0.7 * a1.x, d1v = 0.7 * 16.0 / 64.0 * a1.y, d2u = 0.7 * a2.x, d2v = 0.7 * 16.0 / 64.0 * a2.y;
+    const double A = d1v * d1v + d2v * d2v + 1.0, C = d1u * d1u + d2u * d2u + 1.0;
+    const double F = A * C - (d1u * d1v + d2u * d2v) * (d1u * d1v + d2u * d2v);
+    REQUIRE(2.0 * std::sqrt(C) > 80.0);
+    REQUIRE(2.0 * std::sqrt(F / A) < 50.0);
+    bool near_edge = false;
+    int inside = 0;
+    const Color4 expected = ewa_level_by_definition(tall.level(2), s, 0.4, 0.2, d1u, d1v, d2u, d2v, near_edge, 60, 10, &inside);
+    int texels = 0;
+    const Color4 got = sample_ewa(tall, s, 0.4, 0.2, {a1.x, a1.y / 64.0, a2.x, a2.y / 64.0}, texels);
+    for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(expected[c]).epsilon(near_edge ? 2e-3 : 1e-5));
+    if (!near_edge) CHECK(texels == inside);
+    CHECK(texels > 64);
 }
 
 TEST_CASE("EWA reads the same values from an 8-bit image's bytes as from its decoded copy") {

@@ -369,21 +369,25 @@ inline double row_weight(double r, const RowWeights& table, const float* w) {
     return first + rest[0] + (at - double(m)) * (rest[1] - rest[0]);
 }
 
-// From this many cells of the ellipse's box across a level's one texel, ewa_average sums the
-// ellipse along the other axis, one read a line (ewa_sum_for): there a row's cells, which the
-// box makes thousands long on a thin image's level, add up to nearly W(r). Fewer cells: the
-// cell sum, exact and cheap (a narrow box).
+// Where the ellipse's middle row is this many cells long or more across a level's one texel,
+// ewa_average sums the ellipse along the other axis, one read a line (ewa_sum_for): there a
+// row's cells, thousands on a thin image's level, add up to nearly W(r). Shorter rows: the
+// cell sum, exact and cheap. (The row, not the box: a sheared ellipse's box can be wide where
+// its rows are a few cells long.)
 constexpr int rows_from = 64;
 
 // How ewa_average sums the ellipse e on `image` (ewa.h, EwaSum): row by row where the level is
-// one texel across s and the box rows_from cells or more across it, column by column likewise
-// across t, along whichever of the two is shorter where both are; else cell by cell.
+// one texel across s and the ellipse's middle row (Q = a s^2 < 1: 2 / sqrt(a) cells long)
+// rows_from cells or more, column by column likewise across t (2 / sqrt(c)), along whichever
+// box side is shorter where both are; else cell by cell.
 [[gnu::always_inline]] inline EwaSum ewa_sum_for(const Image& image, const Sampler& s, const EwaEllipse& e) {
     const bool one_s = image.width() == 1, one_t = image.height() == 1;
     if (!one_s && !one_t) return EwaSum::cells;  // (the usual level)
-    const int across_s = e.s1 - e.s0 + 1, across_t = e.t1 - e.t0 + 1;
-    const bool by_rows = one_s && across_s >= rows_from, by_columns = one_t && across_t >= rows_from;
+    // 2 / sqrt(a) >= rows_from, as a <= 4 / rows_from^2 (false for NaN).
+    const double long_row = 4.0 / (double(rows_from) * double(rows_from));
+    const bool by_rows = one_s && e.a <= long_row, by_columns = one_t && e.c <= long_row;
     if (!by_rows && !by_columns) return EwaSum::cells;
+    const int across_s = e.s1 - e.s0 + 1, across_t = e.t1 - e.t0 + 1;
     if (by_rows && (!by_columns || across_t <= across_s)) return s.wrap_u == Wrap::border ? EwaSum::rows_beside_border : EwaSum::rows;
     return s.wrap_v == Wrap::border ? EwaSum::columns_beside_border : EwaSum::columns;
 }

@@ -12,10 +12,10 @@
 // minor axis spans about one texel, and the results of the two nearest levels are blended.
 // A thin image's levels keep their 1-texel side, so that the ellipse (its minor axis
 // stretched along that side) stays as long across it, in image widths, as on the base level:
-// thousands of cells a row. Where a level is one texel across an axis and the ellipse's box
-// is 64 cells or more across it (EwaSum: a thin image's levels, and at high anisotropy the
-// coarsest levels of others), the sum is taken along the other axis, one read a row, from
-// what the row's cells read:
+// thousands of cells a row. Where a level is one texel across an axis and the ellipse's
+// middle row across it is 64 cells or more long (EwaSum: a thin image's levels, and at high
+// anisotropy the coarsest levels of others), the sum is taken along the other axis, one read
+// a row, from what the row's cells read:
 // - repeat, mirror or clamp on that axis: every cell of the row reads the row's texel, which
 //   weighs what the row's cells add up to, W(r): the table's weights over the row's chord of
 //   the ellipse, worked out in closed form (ewa.cpp, row_weight);
@@ -24,7 +24,7 @@
 // W(r) stands for a long row of cells: measured on random ellipses over thin levels, the
 // mean is within 1e-3 of the cell sum where rows of texels meet rows of border (contrast 1),
 // 5e-4 on random texels, 6e-5 of |texel - border| beside the border, and closer the wider
-// the box. Narrower boxes are summed cell by cell.
+// the box. Ellipses with shorter rows are summed cell by cell.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -53,7 +53,7 @@ inline EwaLevel ewa_level(double major, double minor, float max_anisotropy) {
 Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int& texels);
 
 // How sample_ewa sums the ellipse on one level (above): cell by cell, or along one axis where
-// the level is one texel across the other and the ellipse's box 64 cells or more across it:
+// the level is one texel across the other and the ellipse's middle row 64 cells or more long:
 // rows (along t: one texel across u) or columns (along u), each reading one texel, or that
 // texel beside the border where the 1-texel axis wraps to the border.
 enum class EwaSum { cells, rows, columns, rows_beside_border, columns_beside_border };
