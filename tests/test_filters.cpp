@@ -905,6 +905,28 @@ double row_weight_by_definition(double r) {
     return sum;
 }
 
+// The ellipse's sum by definition on a level one texel across u (rows = true: rows j along v,
+// each reading its texel in column 0) or across v (columns along u): each line k within the
+// ellipse's reach of `centre` weighted by W((k - centre)^2 / spread), its texel read through
+// the wrap modes (-1: the border colour). `lines` grows by the lines inside (W > 0).
+Color4 lines_by_definition(const Image& level, const Sampler& s, bool rows, double centre, double spread, int& lines) {
+    const bool node = s.registration == Registration::node;
+    const double reach = std::sqrt(spread) + 1.0;
+    glm::dvec4 sum(0.0);
+    double weight_sum = 0.0;
+    for (int k = int(std::floor(centre - reach)); k <= int(std::ceil(centre + reach)); ++k) {
+        const double r = (k - centre) * (k - centre) / spread;
+        if (!(r < 1.0)) continue;
+        ++lines;
+        const double weight = row_weight_by_definition(r);
+        const int i = rows ? 0 : wrap_index(s.wrap_u, k, level.width(), node);
+        const int j = rows ? wrap_index(s.wrap_v, k, level.height(), node) : 0;
+        sum += weight * glm::dvec4(i < 0 || j < 0 ? s.border : level.texel(i, j));
+        weight_sum += weight;
+    }
+    return Color4(sum / weight_sum);
+}
+
 }  // namespace
 
 TEST_CASE("EWA is the Gaussian-weighted mean over its ellipse, blended between two levels") {
@@ -1057,18 +1079,7 @@ TEST_CASE("EWA on a thin image: summed row by row across its 1-texel side, in cl
                 const auto rows = [&](int l) {
                     const Image& level = mip.level(l);
                     const double d2v = 0.7 * minor * level.height() / 1024.0;
-                    const double spread = d2v * d2v + 1.0, ct = v * level.height() - 0.5;
-                    glm::dvec4 sum(0.0);
-                    double weight_sum = 0.0;
-                    for (int j = int(std::floor(ct)) - 200; j <= int(std::ceil(ct)) + 200; ++j) {
-                        const double r = (j - ct) * (j - ct) / spread, m = row_weight_by_definition(r);
-                        if (!(r < 1.0)) continue;
-                        ++rows_inside;
-                        const int row = wrap_index(wrap_v, j, level.height(), false);
-                        sum += m * glm::dvec4(row < 0 ? s.border : level.texel(0, row));
-                        weight_sum += m;
-                    }
-                    return Color4(sum / weight_sum);
+                    return lines_by_definition(level, s, true, v * level.height() - 0.5, d2v * d2v + 1.0, rows_inside);
                 };
                 const bool by_rows = wrap_u != Wrap::border;
                 const Color4 a = by_rows ? rows(l0) : cells(l0), b = by_rows ? rows(l0 + 1) : cells(l0 + 1);
@@ -1206,18 +1217,7 @@ TEST_CASE("EWA on levels one texel across: sheared ellipses, both registrations,
                             const int n = rows ? lh : lw;
                             const double spread = rows ? d1v * d1v + d2v * d2v + 1.0 : d1u * d1u + d2u * d2u + 1.0;
                             const double t = rows ? v : u;
-                            const double centre = node ? t * (n - 1) : t * n - 0.5;
-                            glm::dvec4 sum(0.0);
-                            double weight_sum = 0.0;
-                            for (int k = int(std::floor(centre)) - 300; k <= int(std::ceil(centre)) + 300; ++k) {
-                                const double r = (k - centre) * (k - centre) / spread, m = row_weight_by_definition(r);
-                                if (!(r < 1.0)) continue;
-                                ++rows_read;
-                                const int i = rows ? 0 : wrap_index(wrap_u, k, lw, node), j = rows ? wrap_index(wrap_v, k, lh, node) : 0;
-                                sum += m * glm::dvec4(i < 0 || j < 0 ? s.border : level.texel(i, j));
-                                weight_sum += m;
-                            }
-                            return Color4(sum / weight_sum);
+                            return lines_by_definition(level, s, rows, node ? t * (n - 1) : t * n - 0.5, spread, rows_read);
                         };
                         const float f = float(lambda - l0);
                         const Color4 a = rows_or_cells(l0, false), b = rows_or_cells(l0 + 1, false);
@@ -1274,18 +1274,11 @@ TEST_CASE("EWA on a 1x1 level whose box is 64 cells or more both ways sums along
     const double lambda = std::log2(minor), u = 0.3, v = 0.45;
     const int l0 = int(lambda);
     REQUIRE(l0 == 13);
+    int rows_inside = 0;
     const auto rows = [&](int l) {
         const Image& level = mip.level(l);
         const double ky = 0.7 * level.height() / 16384.0, d1v = a1.y * ky, d2v = a2.y * ky;
-        const double spread = d1v * d1v + d2v * d2v + 1.0, ct = v * level.height() - 0.5;
-        glm::dvec4 sum(0.0);
-        double weight_sum = 0.0;
-        for (int j = int(std::floor(ct - std::sqrt(spread))); j <= int(std::ceil(ct + std::sqrt(spread))); ++j) {
-            const double weight = row_weight_by_definition((j - ct) * (j - ct) / spread);
-            sum += weight * glm::dvec4(level.texel(0, wrap_index(Wrap::repeat, j, level.height())));
-            weight_sum += weight;
-        }
-        return Color4(sum / weight_sum);
+        return lines_by_definition(level, s, true, v * level.height() - 0.5, d1v * d1v + d2v * d2v + 1.0, rows_inside);
     };
     const Color4 expected = rows(l0) + float(lambda - l0) * (rows(l0 + 1) - rows(l0));
     int texels = 0;

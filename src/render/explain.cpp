@@ -121,7 +121,8 @@ std::string levels_read(const Texture& t, double u, double v, const UVDerivative
         if (sum == EwaSum::cells) continue;
         const bool rows = sum == EwaSum::rows || sum == EwaSum::rows_beside_border;
         const std::string across = rows ? "u" : "v", along = rows ? "v" : "u", line = rows ? "row" : "column";
-        out += "    level " + std::to_string(l) + " is one texel across " + across + ", and the ellipse's middle row 64 cells or more: summed\n";
+        out += "    level " + std::to_string(l) + " is one texel across " + across + ", and the ellipse's middle row " +
+               std::to_string(ewa_rows_from) + " cells or more: summed\n";
         if (sum == EwaSum::rows || sum == EwaSum::columns)
             out += "    " + line + " by " + line + " along " + along + ", each " + line + "'s texel weighted by its cells' weights together\n";
         else

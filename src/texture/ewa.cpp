@@ -338,9 +338,7 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
 // a step and read linearly (within about 1e-6). The shear and the ellipse's width along the
 // rows drop out: only its height tells the rows' weights.
 constexpr int row_steps = 16;
-struct RowWeights {
-    std::array<double, (weight_table_size - 1) * (row_steps + 1)> rest;  // by step k, then sub-step m
-};
+using RowWeights = std::array<double, (weight_table_size - 1) * (row_steps + 1)>;  // the rest, by step k, then sub-step m
 const RowWeights& row_weight_table() {
     static const RowWeights table = [] {
         RowWeights t{};
@@ -352,7 +350,7 @@ const RowWeights& row_weight_table() {
                 double rest = 0.0;
                 for (int j = k + 2; j < weight_table_size; ++j)
                     rest += 2.0 * std::sqrt(std::max(double(j) * step - r, 0.0)) * (double(w[j - 1]) - double(w[j]));
-                t.rest[std::size_t(k * (row_steps + 1) + m)] = rest;
+                t[std::size_t(k * (row_steps + 1) + m)] = rest;
             }
         return t;
     }();
@@ -364,27 +362,26 @@ inline double row_weight(double r, const RowWeights& table, const float* w) {
     const int k = int(x);  // the step r is in: its first term is j = k + 1
     const double at = (x - double(k)) * row_steps;
     const int m = int(at);
-    const double* const rest = &table.rest[std::size_t(k * (row_steps + 1) + m)];
+    const double* const rest = &table[std::size_t(k * (row_steps + 1) + m)];
     const double first = 2.0 * std::sqrt((double(k + 1) - x) / double(weight_table_size - 1)) * (double(w[k]) - double(w[k + 1]));
     return first + rest[0] + (at - double(m)) * (rest[1] - rest[0]);
 }
 
-// Where the ellipse's middle row is this many cells long or more across a level's one texel,
-// ewa_average sums the ellipse along the other axis, one read a line (ewa_sum_for): there a
-// row's cells, thousands on a thin image's level, add up to nearly W(r). Shorter rows: the
-// cell sum, exact and cheap. (The row, not the box: a sheared ellipse's box can be wide where
-// its rows are a few cells long.)
-constexpr int rows_from = 64;
+// Where the ellipse's middle row is ewa_rows_from cells long or more across a level's one
+// texel, ewa_average sums the ellipse along the other axis, one read a line (ewa_sum_for):
+// there a row's cells, thousands on a thin image's level, add up to nearly W(r). Shorter
+// rows: the cell sum, exact and cheap. (The row, not the box: a sheared ellipse's box can be
+// wide where its rows are a few cells long.)
 
 // How ewa_average sums the ellipse e on `image` (ewa.h, EwaSum): row by row where the level is
 // one texel across s and the ellipse's middle row (Q = a s^2 < 1: 2 / sqrt(a) cells long)
-// rows_from cells or more, column by column likewise across t (2 / sqrt(c)), along whichever
+// ewa_rows_from cells or more, column by column likewise across t (2 / sqrt(c)), along whichever
 // box side is shorter where both are; else cell by cell.
 [[gnu::always_inline]] inline EwaSum ewa_sum_for(const Image& image, const Sampler& s, const EwaEllipse& e) {
     const bool one_s = image.width() == 1, one_t = image.height() == 1;
     if (!one_s && !one_t) return EwaSum::cells;  // (the usual level)
-    // 2 / sqrt(a) >= rows_from, as a <= 4 / rows_from^2 (false for NaN).
-    const double long_row = 4.0 / (double(rows_from) * double(rows_from));
+    // 2 / sqrt(a) >= ewa_rows_from, as a <= 4 / ewa_rows_from^2 (false for NaN).
+    const double long_row = 4.0 / (double(ewa_rows_from) * double(ewa_rows_from));
     const bool by_rows = one_s && e.a <= long_row, by_columns = one_t && e.c <= long_row;
     if (!by_rows && !by_columns) return EwaSum::cells;
     const int across_s = e.s1 - e.s0 + 1, across_t = e.t1 - e.t0 + 1;

@@ -57,6 +57,9 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
 // rows (along t: one texel across u) or columns (along u), each reading one texel, or that
 // texel beside the border where the 1-texel axis wraps to the border.
 enum class EwaSum { cells, rows, columns, rows_beside_border, columns_beside_border };
+// The middle row's length, in cells, from which a level one texel across is summed by rows
+// (ewa.cpp says why).
+constexpr int ewa_rows_from = 64;
 // For texr explain: the sum sample_ewa would take on `level` at this lookup (cells for a point
 // or a footprint beyond measure); whether it reads that level at all is the caller's to say.
 EwaSum ewa_sum_on_level(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int level);
