@@ -1567,7 +1567,7 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     CHECK(r.output.find("scene.txt:7: material 'shade' is already defined: line 5's OBJ file uses it") != std::string::npos);
 }
 
-TEST_CASE("texr explain prints HDR values near the float maximum in 6 significant digits, small ones to 5 decimals, NaN as nan") {
+TEST_CASE("texr explain prints HDR values near the float maximum in 6 significant digits, small ones to 5 decimals, NaN as nan, -0 as 0") {
     // A 2x2 flat Radiance file (no run-length rows under 8 texels): RGBE (128, 128, 128, 252)
     // is 128 x 2^(252 - 136) = 2^123 = 1.06338e+37 (10633823966279326983230456482242756608);
     // (128, 64, 32, 129) is (1, 0.5, 0.25). As %.5f, 2^123 would print 39 digits.
@@ -1603,6 +1603,13 @@ TEST_CASE("texr explain prints HDR values near the float maximum in 6 significan
     CAPTURE(lit);
     CHECK(lit.find("    x irradiance    (0.00000, 0.00000, 0.00000)\n    = (nan, nan, nan)\n") != std::string::npos);
     CHECK(lit.find("-nan") == std::string::npos);
+    // A material colour of -0 (the scene format takes it: -0 is not below 0) times the small
+    // texel's 1 is -0: printed "0.00000" (printf's own form: "-0.00000").
+    const std::string signed_zero = explain("small.hdr", " color -0 1 1");
+    CAPTURE(signed_zero);
+    CHECK(signed_zero.find("    material colour (0.00000, 1.00000, 1.00000)\n    x texture       (1.00000, 0.50000, 0.25000)\n"
+                           "    = (0.00000, 0.50000, 0.25000)\n") != std::string::npos);
+    CHECK(signed_zero.find("-0.00000") == std::string::npos);
 }
 
 TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short inside its rows is refused, not read for ever") {
