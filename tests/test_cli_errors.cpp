@@ -172,7 +172,7 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("continuation-end", good_scene + "quad \\\n v 0 0 0 0 0 \\\n", "scene.txt:6: line ends with '\\' but the file ends there");
     // A command continued over several lines: the message names the line of the bad word.
     const std::string quad = "quad \\\n  v -1 -1 0 0 0 \\\n  v 1 -1 0 1 0 \\\n  v 1 1 0 1 1";
-    expect_failure("continued-value", good_scene + quad + " \\\n  v -1 1 0 x 1\n", "scene.txt:9: expected the vertex u, found 'x'");
+    expect_failure("continued-value", good_scene + quad + " \\\n  v -1 1 0 x 1\n", "scene.txt:9: expected the vertex's texture coordinate u, found 'x'");
     expect_failure("continued-option", good_scene + "material m \\\n  color 1 0 0 \\\n  colour 1 0 0\n",
                    "scene.txt:7: unknown material option 'colour'");
     expect_failure("continued-count", good_scene + quad + "\n", "scene.txt:8: quad needs 4 vertices");
@@ -454,8 +454,13 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     }
     for (const std::string command : {"--threads 300", "--spp 65"}) {
         r = run_texr("render " + scene + " " + command);
-        CHECK(r.output == "texr: " + command + " is out of range (" + (command[2] == 't' ? "1..256" : "1..64") + ")\n");
+        CHECK(r.output == "texr: " + command.substr(0, command.find(' ')) + " expects a whole number from 1 to " +
+                              (command[2] == 't' ? "256" : "64") + ", got '" + command.substr(command.find(' ') + 1) + "'\n");
     }
+    // Beyond --repeat's limit (a review found "expects a positive whole number" here).
+    r = run_texr("render " + scene + " --repeat 2000000000");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '2000000000'\n");
     // texr bench takes the same ranges as texr render, but for --spp 1 (which renders with
     // the textures' own filters: no ground truth to score them against).
     for (const char* option : {"--threads 300", "--spp 65", "--threads 0", "--spp 1"}) {
@@ -475,14 +480,14 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     CHECK(r.exit_code == 2);
     CHECK(r.output == "texr: unknown option '--f\\x1B[2J\\xC3\\xA9' for 'texr render'\n");
     r = run_texr("render " + scene + " --repeat '2\xC2\xA0'");
-    CHECK(r.output == "texr: --repeat expects a positive whole number, got '2\\xC2\\xA0'\n");
+    CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '2\\xC2\\xA0'\n");
     r = run_texr("render " + scene + " --size '640\xC3\x97" "480'");
     CHECK(r.output.rfind("texr: --size expects WxH (for example 640x480), each side from 1 to ", 0) == 0);
     CHECK(r.output.find(", got '640\\xC3\\x97" "480'\n") != std::string::npos);
     r = run_texr("bench --repeat '1\xE2\x80\x8B' --out " + dir + "/bench");
     CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '1\\xE2\\x80\\x8B'\n");
     r = run_texr("render " + scene + " --repeat '3\x1b[0m'");
-    CHECK(r.output == "texr: --repeat expects a positive whole number, got '3\\x1B[0m'\n");
+    CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '3\\x1B[0m'\n");
     r = run_texr("render " + scene + " '--span=exa\xC2\x9B" "ct'");
     CHECK(r.output.rfind("texr: unknown span mode 'exa\\xC2\\x9Bct' (expected ", 0) == 0);
     r = run_texr("explain " + dir + "/scene.txt 1 2 '3\x07\xff'");
@@ -971,10 +976,37 @@ TEST_CASE("a missing map_Kd image names the .mtl material, with the scene line o
     const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
     CAPTURE(r.output);
     CHECK(r.exit_code == 1);
-    CHECK(r.output.find("scene.txt:2: OBJ material 'paint' (map_Kd in its .mtl): ") != std::string::npos);
+    CHECK(r.output.find("scene.txt:2: OBJ material 'paint' (map_Kd in " + dir + "/t.mtl): ") != std::string::npos);
     CHECK(r.output.find("missing.png: cannot open image file") != std::string::npos);
     CHECK(r.output.find("scene.txt:2: texr") == std::string::npos);
     CHECK(r.output.find("scene.txt:2:", r.output.find("scene.txt:2:") + 1) == std::string::npos);  // once
+}
+
+TEST_CASE("a map_Kd image is found from its .mtl file's folder, which may differ from the OBJ's") {
+    // sub/x.obj reads mtl/x.mtl (from the OBJ's folder), whose map_Kd names a 1x1 red image
+    // beside the .mtl. A red image of the same name beside the OBJ would be found otherwise:
+    // there a green one stands in its way.
+    const std::string dir = scratch_folder("mtl-folder");
+    REQUIRE(std::system(("mkdir -p '" + dir + "/sub/mtl'").c_str()) == 0);
+    write_text(dir + "/sub/x.obj", "mtllib mtl/x.mtl\nusemtl m\nv -9 -9 0\nv 9 -9 0\nv 0 9 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+    write_text(dir + "/sub/mtl/x.mtl", "newmtl m\nKd 1 1 1\nmap_Kd t.ppm\n");
+    write_text(dir + "/sub/mtl/t.ppm", std::string("P6\n1 1\n255\n") + char(255) + char(0) + char(0));
+    write_text(dir + "/sub/t.ppm", std::string("P6\n1 1\n255\n") + char(0) + char(255) + char(0));
+    write_text(dir + "/scene.txt", "size 4 4\ncamera eye 0 0 3\nmesh sub/x.obj\n");
+    RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.ppm");
+    CAPTURE(r.output);
+    REQUIRE(r.exit_code == 0);
+    // The triangle covers the whole 4x4 frame; a .mtl material is unlit: Kd 1 times red.
+    const std::string frame = read_file(dir + "/out.ppm");
+    std::string red;
+    for (int k = 0; k < 16; ++k) red += std::string{char(255), char(0), char(0)};
+    CHECK(frame == "P6\n4 4\n255\n" + red);
+    // Missing there, it is named there, with the .mtl file.
+    std::remove((dir + "/sub/mtl/t.ppm").c_str());
+    r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.ppm");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("scene.txt:3: OBJ material 'm' (map_Kd in " + dir + "/sub/mtl/x.mtl): " + dir + "/sub/mtl/t.ppm: cannot open image file") !=
+          std::string::npos);
 }
 
 TEST_CASE("a missing .mtl file is refused at its mtllib line, but one of several names is enough") {
@@ -1547,7 +1579,7 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
     struct Case {
         std::string mesh, message;
     };
-    for (const Case& k : {Case{"mesh \\\n  lib.obj \\\n  cull back\n", "scene.txt:5: OBJ material 'painted' (map_Kd in its .mtl): " + dir + "/gone.png: cannot open image file"},
+    for (const Case& k : {Case{"mesh \\\n  lib.obj \\\n  cull back\n", "scene.txt:5: OBJ material 'painted' (map_Kd in " + dir + "/lib.mtl): " + dir + "/gone.png: cannot open image file"},
                           Case{"mesh \\\n  plain.obj \\\n  cull back \\\n  material tm\n", "scene.txt:7: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
                           Case{"mesh plain.obj \\\n  material tm \\\n  cull back\n", "scene.txt:5: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
                           Case{"mesh \\\n  lib-plain.obj \\\n  cull back\n", "scene.txt:5: " + dir + "/lib-plain.obj has faces without texture coordinates (vt), but its material 'tex'"}}) {
@@ -1910,6 +1942,21 @@ TEST_CASE("an image whose header claims more than 16384 texels on a side is refu
                             " texels, and texr reads at most 16384 per side") != std::string::npos);
         CHECK_FALSE(file_exists(dir + "/out.png"));
     }
+    // A PNG that is its header alone (signature and IHDR: 20000 x 20000, 8-bit RGB): too large
+    // is told, not that it is cut short of its texels (a review found the second).
+    std::string ihdr = "IHDR";
+    for (const unsigned side : {20000u, 20000u})
+        for (const int shift : {24, 16, 8, 0}) ihdr += char((side >> shift) & 255);
+    ihdr += std::string("\x08\x02\x00\x00\x00", 5);
+    const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(ihdr.data()), uInt(ihdr.size()));
+    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + std::string("\x00\x00\x00\x0d", 4) + ihdr;
+    for (const int shift : {24, 16, 8, 0}) png += char((crc >> shift) & 255);
+    r = render_texture_file(dir, "t.png", png);
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("t.png: the image is too large: its header says 20000 x 20000 texels, and texr reads at most 16384 per side") !=
+          std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/out.png"));
 }
 
 TEST_CASE("a JPEG scan that decodes with a Huffman table no DHT has defined is refused") {

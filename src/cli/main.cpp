@@ -69,7 +69,7 @@ const char* render_help =
     "  --size WxH          frame size in pixels, overriding the scene's 'size' line\n"
     "                      (each side 1..16384, at most 67108864 pixels)\n"
     "  --repeat N          render the frame N times and print the median frame time\n"
-    "                      (default 1)\n"
+    "                      (1..1000000000, default 1)\n"
     "  --threads N         worker threads, 1..256 (default: one per core this process\n"
     "                      may use); the frame is the same bytes for every N.\n"
     "                      Renders run side by side should share the cores between\n"
@@ -121,10 +121,10 @@ int parse_positive(const std::string& text, const std::string& option) {
     } catch (...) {
         used = 0;
     }
-    if (used != text.size() || text.empty() || value < 1 || value > 1000000000LL)
-        throw UsageError{option + " expects a positive whole number, got " + texr::shown_token(text)};
-    if (option == "--threads" && value > 256) throw UsageError{"--threads " + text + " is out of range (1..256)"};
-    if (option == "--spp" && value > 64) throw UsageError{"--spp " + text + " is out of range (1..64)"};
+    // (The same words as texr bench's.)
+    const long long most = option == "--threads" ? 256 : option == "--spp" ? 64 : 1000000000LL;
+    if (used != text.size() || text.empty() || value < 1 || value > most)
+        throw UsageError{option + " expects a whole number from 1 to " + std::to_string(most) + ", got " + texr::shown_token(text)};
     return int(value);
 }
 

@@ -208,11 +208,16 @@ public:
         text << in.rdbuf();
         std::istringstream stream(checked_mtl_text(path, text.str()));
         tinyobj::LoadMtl(names, materials, &stream, warning, error);
+        sources_.resize(materials->size(), path);  // (LoadMtl appends this file's materials)
         return true;
     }
+    // The .mtl file that the material at `index` of LoadObj's list came from ("" for none:
+    // every material it lists comes from a file read here).
+    std::string source(std::size_t index) const { return index < sources_.size() ? sources_[index] : std::string(); }
 
 private:
     std::string folder_;
+    std::vector<std::string> sources_;  // by material index
 };
 
 ObjLines read_obj_lines(const std::string& path) {
@@ -337,10 +342,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> obj_materials;
+    MtlReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
     {
         std::ifstream file(path);
         std::istringstream cleaned(lines.clean ? text_without_comments(path) : std::string());
-        MtlReader mtl_files(folder_of(path));  // mtllib files, next to the OBJ
         std::string warning, error;
         if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, lines.clean ? static_cast<std::istream*>(&cleaned) : &file,
                               &mtl_files, /*triangulate=*/true, /*default_vcols_fallback=*/false))
@@ -361,9 +366,11 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         if (!name.empty() && found != described.end()) {
             const tinyobj::material_t& m = *found->second;
             info.described = true;
+            info.mtl_file = mtl_files.source(std::size_t(&m - obj_materials.data()));
+            if (info.mtl_file.empty()) info.mtl_file = path;  // (not reached)
             info.diffuse = {float(m.diffuse[0]), float(m.diffuse[1]), float(m.diffuse[2])};
-            if (!m.diffuse_texname.empty())  // relative to the OBJ's folder unless absolute
-                info.diffuse_texture = m.diffuse_texname[0] == '/' ? m.diffuse_texname : folder_of(path) + m.diffuse_texname;
+            if (!m.diffuse_texname.empty())  // relative to the .mtl file's folder unless absolute
+                info.diffuse_texture = m.diffuse_texname[0] == '/' ? m.diffuse_texname : folder_of(info.mtl_file) + m.diffuse_texname;
         }
         const int index = resolve(info);
         material_of.emplace(name, index);

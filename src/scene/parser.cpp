@@ -531,7 +531,8 @@ private:
             Texture t;
             t.name = info.name + ".map_Kd";
             t.path = info.diffuse_texture;
-            t.image = image(c, path_at, t.path, ColorSpace::srgb, "OBJ material " + shown_name(info.name) + " (map_Kd in its .mtl): ");
+            t.image = image(c, path_at, t.path, ColorSpace::srgb,
+                            "OBJ material " + shown_name(info.name) + " (map_Kd in " + shown_path(info.mtl_file) + "): ");
             t.mipmap = mipmap(t.image, t.sampler);
             m.texture = int(scene_.textures.size());
             scene_.textures.push_back(std::move(t));
@@ -560,7 +561,7 @@ private:
                 Vertex v;
                 vertex_at[mesh.vertices.size()] = c.mark();
                 v.position = c.float_vec3("the vertex position");
-                v.uv = {c.number("the vertex u"), c.number("the vertex v")};
+                v.uv = {c.number("the vertex's texture coordinate u"), c.number("the vertex's texture coordinate v")};
                 mesh.vertices.push_back(v);
             } else if (key == "n" || key == "c") {
                 if (mesh.vertices.empty()) c.fail(shown_token(key) + " belongs after a vertex 'v x y z u v'");

@@ -509,6 +509,7 @@ std::string short_png(const std::vector<unsigned char>& file) {
     const int channels = colour == 0 ? 1 : colour == 2 ? 3 : colour == 3 ? 1 : colour == 4 ? 2 : colour == 6 ? 4 : 0;
     if (width == 0 || height == 0 || width > (1 << 24) || height > (1 << 24) || channels == 0 || depth == 0 || depth > 16)
         return "";  // refused by stb_image
+    if (width > std::uint64_t(max_texture_side) || height > std::uint64_t(max_texture_side)) return "";  // (too large: told in decode)
     std::uint64_t data = 0;  // the IDAT chunks' bytes that the file holds
     for (std::size_t at = 8; at + 8 <= file.size();) {
         const std::uint64_t length = u32(at);
@@ -605,9 +606,21 @@ std::uint64_t hash_of(const stb_decode::Pixels& p) {
 // 2^28 texels, while stb_image's loader still sets aside the whole image before it reads a
 // packet (a 172-byte PIC of 65535 x 8191 asked for 2.1 GB): the PIC's own header is read here.
 // A PIC: the bytes 53 80 F6 34, 84 more, "PICT", then width and height (big-endian, 16 bits).
+// A PNG's size is read here too: stbi_info gives none for one of more than 2^30 bytes of
+// texels (20000 x 20000 RGB), which is then said to be too large rather than cut short.
+// A PNG: its 8-byte signature, IHDR's length and type, then width and height (big-endian,
+// 32 bits; above INT_MAX read as INT_MAX).
 bool header_size(const std::vector<unsigned char>& file, int& width, int& height) {
     if (file.size() >= 96 && std::memcmp(file.data(), "\x53\x80\xF6\x34", 4) == 0 && std::memcmp(file.data() + 88, "PICT", 4) == 0) {
         width = file[92] << 8 | file[93], height = file[94] << 8 | file[95];
+        return true;
+    }
+    if (file.size() >= 24 && std::memcmp(file.data(), "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(file.data() + 12, "IHDR", 4) == 0) {
+        const auto side = [&](std::size_t at) {
+            const std::uint64_t v = std::uint64_t(file[at]) << 24 | std::uint64_t(file[at + 1]) << 16 | std::uint64_t(file[at + 2]) << 8 | file[at + 3];
+            return int(std::min<std::uint64_t>(v, std::uint64_t(std::numeric_limits<int>::max())));
+        };
+        width = side(16), height = side(20);
         return true;
     }
     return stb_decode::header_size(file.data(), int(file.size()), width, height);
@@ -625,7 +638,9 @@ stb_decode::Pixels decode(const std::string& path) {
     if (const std::string cut = short_psd(file); !cut.empty()) throw InputError(path, 0, cut);
     const int length = int(file.size());
     // The largest image texr reads (a few bytes can claim any size, and stb_image sets aside
-    // the whole of it: a 214-byte GIF whose screen is 28013 x 24941 asked for 1.8 GB).
+    // the whole of it: a 214-byte GIF whose screen is 28013 x 24941 asked for 1.8 GB). After
+    // the checks above, which keep stbi_info from headers it misreads (a PNM's overlong
+    // numbers overflow its int).
     if (int w = 0, h = 0; header_size(file, w, h) && (w > max_texture_side || h > max_texture_side))
         throw InputError(path, 0, "the image is too large: its header says " + std::to_string(w) + " x " + std::to_string(h) +
                                       " texels, and texr reads at most " + std::to_string(max_texture_side) + " per side");

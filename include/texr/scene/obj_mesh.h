@@ -11,8 +11,9 @@ namespace texr {
 struct ObjMaterialInfo {
     std::string name;
     bool described = false;  // a .mtl file describes it (diffuse and diffuse_texture are its)
+    std::string mtl_file;    // that .mtl file's path (described)
     Color diffuse{1.0f};
-    std::string diffuse_texture;  // map_Kd, as a path relative to the OBJ file's folder
+    std::string diffuse_texture;  // map_Kd, its path resolved from the .mtl file's folder
 };
 using ObjMaterialResolver = std::function<int(const ObjMaterialInfo&)>;
 
