@@ -461,6 +461,19 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     r = run_texr("render " + scene + " --repeat 2000000000");
     CHECK(r.exit_code == 2);
     CHECK(r.output == "texr: --repeat expects a whole number from 1 to 1000000000, got '2000000000'\n");
+    // Digits alone: no sign and no white space in front (which std::stoll takes).
+    for (const std::string number : {"+2", "' 2'", "'\t2'"}) {
+        CAPTURE(number);
+        r = run_texr("render " + scene + " --threads " + number);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.rfind("texr: --threads expects a whole number from 1 to 256, got ", 0) == 0);
+        r = run_texr("bench --repeat " + number + " --out " + dir + "/bench");
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.rfind("texr: --repeat expects a whole number from 1 to 1000000000, got ", 0) == 0);
+        r = run_texr("explain " + dir + "/scene.txt 1 " + number);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output.rfind("texr: Y must be a pixel index from 0 to ", 0) == 0);
+    }
     // texr bench takes the same ranges as texr render, but for --spp 1 (which renders with
     // the textures' own filters: no ground truth to score them against).
     for (const char* option : {"--threads 300", "--spp 65", "--threads 0", "--spp 1"}) {

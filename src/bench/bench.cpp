@@ -61,7 +61,8 @@ int parse_int(const std::string& text, const std::string& option, int max = 1000
     } catch (...) {
         used = 0;
     }
-    if (used != text.size() || v < min || v > max)
+    // Digits alone (std::stoi also takes leading white space and a sign).
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || used != text.size() || v < min || v > max)
         throw std::invalid_argument(option + " expects a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
                                     ", got " + shown_token(text));
     return v;

@@ -123,7 +123,8 @@ int parse_positive(const std::string& text, const std::string& option) {
     }
     // (The same words as texr bench's.)
     const long long most = option == "--threads" ? 256 : option == "--spp" ? 64 : 1000000000LL;
-    if (used != text.size() || text.empty() || value < 1 || value > most)
+    // Digits alone (std::stoll also takes leading white space and a sign).
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || used != text.size() || value < 1 || value > most)
         throw UsageError{option + " expects a whole number from 1 to " + std::to_string(most) + ", got " + texr::shown_token(text)};
     return int(value);
 }
@@ -141,7 +142,7 @@ int parse_coordinate(const std::string& text, const std::string& name, int limit
     } catch (...) {
         used = 0;
     }
-    if (used != text.size() || value < 0 || value >= limit)
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || used != text.size() || value < 0 || value >= limit)
         throw UsageError{name + " must be a pixel index from 0 to " + std::to_string(limit - 1) + ", got " + texr::shown_token(text)};
     return int(value);
 }
