@@ -1,4 +1,4 @@
-// Triangle parameterization: M^-1 = U * diag(1/w) * adj(S) (see the header).
+// Triangle parameterization: M^-1 = U * diag(1/w) * adj(S) / det(S) (see the header).
 #include "texr/raster/homography.h"
 
 #include <cmath>

@@ -2,11 +2,11 @@
 //   M:      (u, v, 1)  -> (x', y', w),   (x, y) = (x'/w, y'/w)
 //   M^-1:   (x, y, 1)  -> (u', v', q),   (u, v) = (u'/q, v'/q)
 // The inverse is computed directly (docs/design.md, "The homography") as
-//   M^-1 = U * diag(1/w0, 1/w1, 1/w2) * adj(S)
+//   M^-1 = U * diag(1/w0, 1/w1, 1/w2) * adj(S) / det(S)
 // with S = [x_i; y_i; 1] (screen vertices as columns) and U = [u_i; v_i; 1]. adj(S) * (x, y, 1)
 // is det(S) times the screen-space barycentric coordinates, so this needs only a
 // non-degenerate *screen* triangle; collinear or coincident UVs still give finite values.
-// We also divide by det(S), so that q is exactly 1/w (it cancels in u'/q either way).
+// The divide by det(S) (which cancels in u'/q either way) makes q exactly 1/w.
 // Each row of M^-1 is a Plane: u', v', q are linear in x, y with constant derivatives.
 #pragma once
 #include <array>
