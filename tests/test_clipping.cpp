@@ -185,3 +185,40 @@ TEST_CASE("clipping: a triangle's vertex codes decide inside and outside as clip
                 if (result == ClipResult::inside) CHECK((ca | cb | cc) == 0);
             }
 }
+
+TEST_CASE("clipping: a triangle that all six planes cut keeps all nine corners") {
+    // Each plane cuts one corner off: 3 + 6 corners. Checked against a plain Sutherland-Hodgman
+    // clipper written here (no cap, a growing list), with the planes in clip.h's order.
+    const GuardBand band{2.0, 2.0};
+    const glm::dvec4 a(17.897587133449939, -16.474835452139022, -8.9142050675619231, 0.96524198406639528);
+    const glm::dvec4 b(-11.646200109650502, 16.330652337685834, 8.432153967676296, 2.551924578401664);
+    const glm::dvec4 c(-7.9517706760949345, -18.283209768369343, -6.7733352958032285, 16.593275573596763);
+    const auto distance = [&](int plane, const glm::dvec4& p) {
+        const double d[6] = {p.z + p.w, p.w - p.z, band.x * p.w + p.x, band.x * p.w - p.x, band.y * p.w + p.y, band.y * p.w - p.y};
+        return d[plane];
+    };
+    std::vector<glm::dvec4> reference = {a, b, c};
+    for (int plane = 0; plane < 6; ++plane) {
+        std::vector<glm::dvec4> kept;
+        for (std::size_t i = 0; i < reference.size(); ++i) {
+            const glm::dvec4 &p = reference[i], &q = reference[(i + 1) % reference.size()];
+            const double dp = distance(plane, p), dq = distance(plane, q);
+            if (dp >= 0.0) kept.push_back(p);
+            if ((dp >= 0.0) != (dq >= 0.0)) kept.push_back(p + (dp / (dp - dq)) * (q - p));
+        }
+        reference = kept;
+    }
+    REQUIRE(reference.size() == 9);
+    ClipPolygon polygon;
+    REQUIRE(clip_triangle(a, b, c, band, polygon) == ClipResult::clipped);
+    REQUIRE(polygon.count == 9);
+    // The same corners in the same order (clip_triangle takes each crossing from the inside
+    // end: the same point to rounding), and each corner's weights give its position back.
+    for (int i = 0; i < 9; ++i) {
+        const ClipVertex& v = polygon.vertices[std::size_t(i)];
+        CAPTURE(i);
+        for (int k = 0; k < 4; ++k) CHECK(v.position[k] == doctest::Approx(reference[std::size_t(i)][k]).epsilon(1e-9));
+        const glm::dvec4 from_weights = v.weights.x * a + v.weights.y * b + v.weights.z * c;
+        for (int k = 0; k < 4; ++k) CHECK(from_weights[k] == doctest::Approx(v.position[k]).epsilon(1e-9));
+    }
+}

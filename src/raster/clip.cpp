@@ -36,8 +36,12 @@ void clip_against(int plane, const GuardBand& band, const ClipPolygon& in, ClipP
         const double da = plane_distance(plane, a.position, band);
         const double db = plane_distance(plane, b.position, band);
         // Each pass adds at most one vertex in exact arithmetic; the cap keeps rounding on a
-        // nearly degenerate polygon from ever writing past the array.
-        if (out.count + 2 > ClipPolygon::max_vertices) break;
+        // nearly degenerate polygon from ever writing past the array. It counts what this
+        // edge writes (a, the crossing, or both): a cap of 2 for every edge dropped the last
+        // corner of a triangle that all six planes cut, 9 corners (found in review: a sliver
+        // of about 3 pixels along the frame's edge went missing).
+        const int writes = int(da >= 0.0) + int((da >= 0.0) != (db >= 0.0));
+        if (out.count + writes > ClipPolygon::max_vertices) break;
         if (da >= 0.0) out.vertices[out.count++] = a;
         if ((da >= 0.0) != (db >= 0.0)) {
             // The crossing point, computed from the inside vertex towards the outside one
