@@ -27,7 +27,9 @@
 // over [x - r/2, x + r/2], of the source level's linear interpolation between nodes: for
 // r = 2 the weights 1/4, 1/2, 1/4, for other r up to four weights. The mean of a linear
 // function over an interval is its value at the centre, so a linear ramp stays exactly
-// where it was on every level. Nodes beyond the ends are read through the sampler's wrap
+// where it was on every level, at the nodes whose interval lies within the image (an end
+// node's interval reaches past the ends, read as below: under clamp a 9-node ramp
+// 0, 31, ..., 255 gives 8, 63, 127, 191, 247). Nodes beyond the ends are read through the sampler's wrap
 // mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so these levels
 // belong to one sampler's wrap modes; a level of one node holds the mean of the two-node
 // level above it over [0, 1] (the trapezoid rule; for repeat, the period's mean).
