@@ -29,8 +29,8 @@
 // function over an interval is its value at the centre, so a linear ramp stays exactly
 // where it was on every level, at the nodes whose interval lies within the image (an end
 // node's interval reaches past the ends, read as below: under clamp a 9-node ramp
-// 0, 31, ..., 255 gives 8, 63, 127, 191, 247). Nodes beyond the ends are read through the sampler's wrap
-// mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so these levels
+// 0, 31, ..., 255 gives 8, 63, 127, 191, 247). Nodes beyond the ends are read through the
+// sampler's wrap mode (repeat every n - 1 nodes, mirror, clamp, or the border colour), so these levels
 // belong to one sampler's wrap modes; a level of one node holds the mean of the two-node
 // level above it over [0, 1] (the trapezoid rule; for repeat, the period's mean).
 #pragma once
