@@ -17,6 +17,7 @@
 #include "texr/core/scaling.h"
 #include "texr/render/explain.h"
 #include "texr/render/renderer.h"
+#include "texr/scene/obj_mesh.h"
 #include "texr/scene/parser.h"
 
 using namespace texr;
@@ -337,5 +338,62 @@ TEST_CASE("a scene built in code with colours or light vectors beyond a parsed s
         }
         CHECK(nan == 0);
         CHECK(differ == 0);
+    }
+}
+
+TEST_CASE("OBJ normals: the file's are kept where other faces have none, and computed ones are shared by a position's corners") {
+    // Worked out by hand: each computed normal is the sum of cross(b - a, c - a) over the
+    // faces around the corner's position (v index), normalised.
+    const std::string dir = testing::scratch_folder("obj-normals");
+    // Two faces with vn (1, 0, 1), which is kept as written, and two without on the plane z = 0.
+    // Positions 2 and 3 are on both kinds: their corners without vn take the sum of the four
+    // faces' normals, (0, 0, 2) + (0, 0, 2) + (0, 0, 2) + (0, 0, 2) (each face's cross product
+    // is (0, 0, 2): twice its area, 1), so (0, 0, 1).
+    testing::write_text(dir + "/mix.obj",
+                        "v -1 -1 0\nv 0 -1 0\nv 0 1 0\nv -1 1 0\nv 1 -1 0\nv 1 1 0\nvn 1 0 1\n"
+                        "f 1//1 2//1 3//1\nf 1//1 3//1 4//1\nf 2 5 6\nf 2 6 3\n");
+    Mesh mesh = load_obj(dir + "/mix.obj", [](const ObjMaterialInfo&) { return 0; });
+    REQUIRE(mesh.has_normals);
+    REQUIRE(mesh.triangles.size() == 4);
+    for (int t = 0; t < 4; ++t)
+        for (const std::uint32_t i : mesh.triangles[std::size_t(t)]) {
+            const glm::vec3 n = mesh.vertices[i].normal;
+            CAPTURE(t);
+            if (t < 2) {
+                CHECK(n == glm::vec3(1.0f, 0.0f, 1.0f));  // as the file gives it
+            } else {
+                CHECK(n == glm::vec3(0.0f, 0.0f, 1.0f));
+            }
+        }
+    // Rendered, lit from the front (L = (0, 0, 1) towards the light): N . L = 1/sqrt(2) on the
+    // left faces (the file's normal, normalised when shading), 1 on the right.
+    const Framebuffer fb = render_text("size 100 60\ncamera eye 0 0 3 target 0 0 0 fov 60\nlight directional 0 0 -1\n"
+                                       "material m color 1 1 1 lighting lambert\nmesh " + dir + "/mix.obj material m\n");
+    CHECK(fb.color[fb.index(35, 30)].x == doctest::Approx(std::sqrt(0.5)).epsilon(1e-5));
+    CHECK(fb.color[fb.index(65, 30)].x == doctest::Approx(1.0).epsilon(1e-5));
+    // A roof of two faces on positions 1-4 (ridge 2-3 at z = 0.6), written twice: with the
+    // ridge's corners on the same vt indices, and on other vt indices of the same values. The
+    // faces' cross products: (b - a) x (c - a) for (1, 2, 3) = (1, 0, 0.6) x (1, 2, 0.6) =
+    // (-1.2, 0, 2); for (3, 2, 4) = (0, -2, 0) x (1, 0, -0.6) = (1.2, 0, 2). The ridge's
+    // normal is their sum (0, 0, 4), normalised (0, 0, 1), in both files; the eaves keep
+    // their face's own.
+    const std::string head = "v -1 -1 0\nv 0 -1 0.6\nv 0 1 0.6\nv 1 1 0\nvt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 1 1\nvt 0.5 0\nvt 0.5 1\n"
+                             "f 1/1 2/2 3/3\n";
+    for (const char* second : {"f 3/3 2/2 4/4\n", "f 3/6 2/5 4/4\n"}) {
+        CAPTURE(second);
+        testing::write_text(dir + "/roof.obj", head + second);
+        mesh = load_obj(dir + "/roof.obj", [](const ObjMaterialInfo&) { return 0; });
+        const double left = 1.0 / std::sqrt(1.2 * 1.2 + 4.0);
+        for (const Vertex& v : mesh.vertices) {
+            CAPTURE(v.position.x);
+            if (v.position.x == 0.0f) {
+                CHECK(v.normal.x == doctest::Approx(0.0).epsilon(1e-6));
+                CHECK(v.normal.z == doctest::Approx(1.0).epsilon(1e-6));
+            } else {
+                CHECK(v.normal.x == doctest::Approx(v.position.x < 0.0f ? -1.2 * left : 1.2 * left).epsilon(1e-6));
+                CHECK(v.normal.y == doctest::Approx(0.0).epsilon(1e-6));
+                CHECK(v.normal.z == doctest::Approx(2.0 * left).epsilon(1e-6));
+            }
+        }
     }
 }

@@ -19,6 +19,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include <glm/geometric.hpp>
+
 #include "texr/core/error.h"
 #include "texr/core/path.h"
 #include "texr/core/text_line.h"
@@ -395,7 +397,6 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     Mesh mesh;
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
-    mesh.has_normals = !attrib.normals.empty();
     // One mesh vertex per distinct (position, normal, uv) index triple, numbered in order of
     // first use.
     struct CornerHash {
@@ -408,6 +409,8 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     };
     std::unordered_map<std::tuple<int, int, int>, std::uint32_t, CornerHash> vertex_of;
     vertex_of.reserve(attrib.vertices.size() / 3);
+    std::vector<int> position_of;  // by mesh vertex: its v index
+    std::vector<bool> normal_given;  // by mesh vertex: a vn of non-zero length
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
@@ -415,7 +418,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         const auto& indices = shape.mesh.indices;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
             std::array<std::uint32_t, 3> triangle{};
-            bool face_has_uv = true, face_has_normal = true;
+            bool face_has_uv = true;
             for (int k = 0; k < 3; ++k) {
                 const tinyobj::index_t& idx = indices[3 * f + std::size_t(k)];
                 if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
@@ -425,7 +428,6 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 if (idx.texcoord_index >= uv_count)
                     throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
                 face_has_uv = face_has_uv && idx.texcoord_index >= 0;
-                face_has_normal = face_has_normal && idx.normal_index >= 0;
                 const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
                 auto found = vertex_of.find(key);
                 if (found == vertex_of.end()) {
@@ -442,11 +444,12 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                     }
                     found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
                     mesh.vertices.push_back(v);
+                    position_of.push_back(idx.vertex_index);
+                    normal_given.push_back(idx.normal_index >= 0 && v.normal != glm::vec3(0.0f));
                 }
                 triangle[std::size_t(k)] = found->second;
             }
             mesh.has_uv = mesh.has_uv && face_has_uv;
-            mesh.has_normals = mesh.has_normals && face_has_normal;
             mesh.triangles.push_back(triangle);
             // (not counted alike: every face has the one name, the first)
             const std::uint32_t n = counted ? lines.per_triangle[mesh.triangles.size() - 1] : lines.per_triangle.front();
@@ -456,6 +459,26 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
     mesh.material_files = lines.material_files;
+
+    // The normals the file does not give (a corner without vn, or a vn of length 0, which has
+    // no direction): the area-weighted mean of the normals of the faces around the corner's
+    // position (its v index, whatever the corners' vt and vn: a texture seam is no crease),
+    // by the faces' winding. Given normals are kept.
+    if (std::find(normal_given.begin(), normal_given.end(), false) != normal_given.end()) {
+        std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
+        for (const auto& t : mesh.triangles) {
+            const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
+            const glm::dvec3 n = glm::cross(b - a, c - a);  // twice the face's area, along its normal
+            for (const std::uint32_t i : t) around[std::size_t(position_of[i])] += n;
+        }
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+            if (normal_given[i]) continue;
+            const glm::dvec3 sum = around[std::size_t(position_of[i])];
+            const double length = glm::length(sum);
+            mesh.vertices[i].normal = length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+        }
+    }
+    mesh.has_normals = true;  // (given or computed, every vertex has one)
     return mesh;
 }
 
