@@ -397,3 +397,31 @@ TEST_CASE("OBJ normals: the file's are kept where other faces have none, and com
         }
     }
 }
+
+TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the object itself") {
+    // A cube seen from outside shows at most 3 faces: at least 3 (6 triangles) face away.
+    // Culling them leaves the frame as it is without culling (the depth test hides them), with
+    // or without a mirroring transform (scale -1 1 1 turns the winding over on screen).
+    const std::string cube = testing::source_path("models/cube.obj");
+    const auto frame = [&](const std::string& options, RenderStats& stats) {
+        std::istringstream in("size 120 120\ncamera eye 1.5 1.2 2.5 target 0 0 0 fov 45\nlight directional -0.5 -1 -0.4\n"
+                              "material side color 0.9 0.3 0.3 lighting lambert\nmaterial cap color 0.3 0.3 0.9 lighting lambert\n"
+                              "mesh " + cube + " " + options + "\n");
+        const Scene scene = parse_scene(in, "cull.scene");
+        return render(scene, RenderOptions{}, stats);
+    };
+    for (const std::string mirror : {"", "scale -1 1 1", "scale 1 -1 1 rotate 30 0 1 0", "scale -1 -1 -1"}) {
+        CAPTURE(mirror);
+        RenderStats all, culled;
+        const Framebuffer plain = frame(mirror, all), cut = frame(mirror + " cull back", culled);
+        CHECK(all.triangles_culled == 0);
+        CHECK(culled.triangles_culled >= 6);
+        int drawn = 0, differing = 0;
+        for (std::size_t i = 0; i < plain.color.size(); ++i) {
+            drawn += plain.drawn(i) ? 1 : 0;
+            differing += (plain.color[i] != cut.color[i] || plain.drawn(i) != cut.drawn(i)) ? 1 : 0;
+        }
+        CHECK(drawn > 2000);
+        CHECK(differing == 0);
+    }
+}

@@ -114,11 +114,14 @@ public:
                  std::vector<PreparedPiece>& out) {
         const Object& object = scene_.objects[std::size_t(object_index)];
         const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
-        for (std::size_t t = first; t < last; ++t) prepare_triangle(object_index, object, mesh, vertices, t, out);
+        // A transform that mirrors (a negative determinant, such as scale -1 1 1) turns the
+        // faces' winding over: their fronts are then clockwise on screen.
+        const bool mirrored = glm::determinant(glm::dmat3(object.transform)) < 0.0;
+        for (std::size_t t = first; t < last; ++t) prepare_triangle(object_index, object, mirrored, mesh, vertices, t, out);
     }
 
 private:
-    void prepare_triangle(int object_index, const Object& object, const Mesh& mesh, const TransformedMesh& v,
+    void prepare_triangle(int object_index, const Object& object, bool mirrored, const Mesh& mesh, const TransformedMesh& v,
                           std::size_t t, std::vector<PreparedPiece>& out) {
         ++counters_.triangles_in;
         const auto& tri = mesh.triangles[t];
@@ -137,7 +140,7 @@ private:
             PreparedPiece& piece = out.emplace_back();
             piece.object = object_index, piece.material = mesh.triangle_material[t], piece.triangle = t;
             piece.clipped = clipped;
-            if (!prepare_piece(mesh, v, tri, position, weights, object.cull_back, piece)) out.pop_back();
+            if (!prepare_piece(mesh, v, tri, position, weights, object.cull_back, mirrored, piece)) out.pop_back();
         };
         if (any == 0) {  // inside every plane: the triangle itself is the one piece
             add_piece({&a, &b, &c}, {}, false);
@@ -155,7 +158,7 @@ private:
 
     bool prepare_piece(const Mesh& mesh, const TransformedMesh& v, const std::array<std::uint32_t, 3>& tri,
                        const std::array<const glm::dvec4*, 3>& position, const std::array<const glm::dvec3*, 3>& weights,
-                       bool cull_back, PreparedPiece& piece) {
+                       bool cull_back, bool mirrored, PreparedPiece& piece) {
         // Viewport: NDC -> pixels (row 0 at the top), snapped to 1/256 pixel.
         std::array<SnappedVertex, 3> snapped;
         std::array<glm::dvec2, 3> screen;
@@ -173,8 +176,12 @@ private:
         TriangleSetup& s = piece.s;
         if (!triangle_edges(snapped, s.edges)) { ++counters_.triangles_dropped; return false; }
         // Counter-clockwise in NDC (y up) is front facing; y points down on screen, so a
-        // front-facing triangle has negative signed area there.
-        if (cull_back && twice_signed_area(snapped) > 0) { ++counters_.triangles_culled; return false; }
+        // front-facing triangle has negative signed area there (positive where the object's
+        // transform mirrors it).
+        if (cull_back) {
+            const auto area = twice_signed_area(snapped);
+            if (mirrored ? area < 0 : area > 0) { ++counters_.triangles_culled; return false; }
+        }
         if (!centre_in_box(s.edges, s.first_row, s.last_row)) { ++counters_.triangles_culled; return false; }
         ++counters_.triangles_set_up;
 
