@@ -1752,22 +1752,24 @@ TEST_CASE("an image that leaves texels undefined is refused: palette indices bey
     }
 }
 
-TEST_CASE("faces tinyobjloader splits into fewer triangles keep their usemtl material, or are refused when names differ") {
-    // A six-corner face that repeats its triangle: tinyobjloader makes no triangle of it, where
-    // its corners give 4. The materials used to fall back to tinyobjloader's ids, which lose
-    // names no .mtl describes: the scene's material 'b' became the default grey.
+TEST_CASE("faces with repeated corners keep their usemtl material, each face k - 2 triangles") {
+    // A six-corner face that repeats its triangle is 4 triangles (tinyobjloader's own split made
+    // none of it, and the materials of later faces were lost or refused). The square [0, 2]^2:
+    // the face of material a covers its lower right half (1 2 3), b's its upper left (1 3 5).
     const std::string dir = scratch_folder("obj-uneven-faces");
     const std::string points = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 0.5 0\nv 0 2 0\n";
-    write_text(dir + "/one.obj", points + "usemtl b\nf 1 2 3 1 2 3\nf 1 2 3\n");
-    write_text(dir + "/two.obj", points + "usemtl a\nf 1 2 3 1 2 3\nusemtl b\nf 1 2 3\n");
+    write_text(dir + "/one.obj", points + "usemtl b\nf 1 2 3 1 2 3\nf 1 3 5\n");
+    write_text(dir + "/two.obj", points + "usemtl a\nf 1 2 3 1 2 3\nusemtl b\nf 1 3 5\n");
     const std::string head = "size 32 24\ncamera eye 1 1 3 target 1 1 0 fov 60\nmaterial a color 1 0 0\nmaterial b color 0 1 0\n";
     write_text(dir + "/scene.txt", head + "mesh one.obj\n");
-    CHECK(explained_material(dir, 20, 16) == "b");
+    CHECK(explained_material(dir, 20, 16) == "b");  // (1.65, 0.35): lower right
+    CHECK(explained_material(dir, 10, 6) == "b");   // (0.21, 1.79): upper left
     write_text(dir + "/scene.txt", head + "mesh two.obj\n");
-    const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
-    CHECK(r.exit_code == 1);
-    CHECK(r.output.find("scene.txt:5: " + dir + "/two.obj: tinyobjloader split the faces into 1 triangles, not the 5 their corners give") !=
-          std::string::npos);
+    CHECK(explained_material(dir, 20, 16) == "a");
+    CHECK(explained_material(dir, 10, 6) == "b");
+    const texr::Scene scene = texr::load_scene(dir + "/scene.txt");
+    REQUIRE(scene.meshes.size() == 1);
+    CHECK(scene.meshes[0].triangles.size() == 5);
 }
 
 TEST_CASE("a normal of length 0 (vn 0 0 0, or n 0 0 0) takes the computed normal instead of shading as NaN") {

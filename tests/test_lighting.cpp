@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -424,4 +425,63 @@ TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the
         CHECK(drawn > 2000);
         CHECK(differing == 0);
     }
+}
+
+TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, concave ones too, wherever the face lies") {
+    // Property: the triangles of a simple face, each turning as the face does, whose areas add
+    // up to the face's own (the shoelace formula, worked out here), cover it exactly once.
+    const std::string dir = testing::scratch_folder("obj-concave");
+    struct Face {
+        const char* name;
+        std::vector<glm::dvec2> corners;  // counter-clockwise, in the plane z = 0
+    };
+    const std::vector<Face> faces = {
+        {"L", {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}},
+        {"U", {{0, 0}, {3, 0}, {3, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}},
+        {"dart", {{0.5, -1}, {0, 1.5}, {-0.5, -1}, {0, -0.8}}},  // concave at its last corner
+        {"dart turned", {{0, -0.8}, {0.5, -1}, {0, 1.5}, {-0.5, -1}}},
+        {"pentagon", {{0, 0}, {2, 0}, {2.5, 1}, {1, 2}, {-0.5, 1}}},
+        {"comb", {{0, 0}, {5, 0}, {5, 3}, {4, 3}, {4, 1}, {3, 1}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}},
+    };
+    for (const Face& face : faces)
+        for (const glm::dvec2 offset : {glm::dvec2(0, 0), glm::dvec2(-2.5, -0.5), glm::dvec2(-1.5, 3), glm::dvec2(100, -40)})
+            for (const bool mirrored : {false, true}) {  // mirrored: the corners in the other order (clockwise)
+                CAPTURE(std::string(face.name));
+                CAPTURE(offset.x);
+                CAPTURE(mirrored);
+                std::string obj, f = "f";
+                const std::size_t n = face.corners.size();
+                double shoelace = 0.0;
+                // (the corners as the file's floats, written in full)
+                const auto corner = [&](std::size_t i) { return glm::dvec2(glm::vec2(face.corners[i % n] + offset)); };
+                for (std::size_t i = 0; i < n; ++i) {
+                    const glm::dvec2 a = corner(i), b = corner(i + 1);
+                    char line[64];
+                    std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", a.x, a.y);
+                    obj += line;
+                    f += " " + std::to_string(mirrored ? n - i : i + 1);
+                    shoelace += a.x * b.y - b.x * a.y;
+                }
+                testing::write_text(dir + "/face.obj", obj + f + "\n");
+                const Mesh mesh = load_obj(dir + "/face.obj", [](const ObjMaterialInfo&) { return 0; });
+                REQUIRE(mesh.triangles.size() == n - 2);
+                double total = 0.0;
+                for (const auto& t : mesh.triangles) {
+                    const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
+                    const double area = glm::cross(b - a, c - a).z;  // twice the signed area, seen from +z
+                    CHECK((mirrored ? -area : area) >= -1e-9);       // turns as the face does
+                    total += area;
+                }
+                CHECK(std::fabs(total) == doctest::Approx(std::fabs(shoelace)).epsilon(1e-9));
+            }
+    // Rendered: the L of a review (corners from (-2.5, -0.5)), seen from the front. Its lower
+    // left arm holds world point (-2.3, -0.3), at pixel (34, 85): drawn; its notch (-1, 1) is
+    // not, at pixel (70, 49) ((x + 1.5) / (4 tan 25) * 60 + 60, (0.5 - y) / (4 tan 25) * 60 + 60).
+    testing::write_text(dir + "/L.obj", "v -2.5 -0.5 0\nv -0.5 -0.5 0\nv -0.5 0.5 0\nv -1.5 0.5 0\nv -1.5 1.5 0\nv -2.5 1.5 0\nf 1 2 3 4 5 6\n");
+    std::istringstream in("size 120 120\ncamera eye -1.5 0.5 4 target -1.5 0.5 0 up 0 1 0 fov 50\nmesh " + dir + "/L.obj\n");
+    RenderStats stats;
+    const Framebuffer fb = render(parse_scene(in, "L.scene"), RenderOptions{}, stats);
+    CHECK(fb.drawn(fb.index(34, 85)));
+    CHECK_FALSE(fb.drawn(fb.index(70, 49)));
+    CHECK(stats.triangles_in == 4);
 }

@@ -43,7 +43,7 @@ std::string first_line(const std::string& text) {
 //    count back from the last one defined above the face); tinyobjloader skips a quad with a
 //    bad index, with only a warning, which would also shift every later face's material;
 //  - the `usemtl` name in force for each triangle, in file order (a face of k vertices is
-//    k - 2 triangles, as tinyobjloader triangulates it), as an index into `names`: the name
+//    k - 2 triangles, as face_triangles splits it), as an index into `names`: the name
 //    is the word after `usemtl` (a tab or a # comment ends it, as in tinyobjloader);
 //  - whether tinyobjloader needs the file's text without its comments (it takes the '#' of
 //    'f 1 2 3 # a comment' for an index), without a UTF-8 byte order mark (which it would
@@ -335,6 +335,84 @@ ObjLines read_obj_lines(const std::string& path) {
     return out;
 }
 
+// A face's triangles, as corner numbers of the face (k - 2 of them for k corners, each
+// turning as the face does). tinyobjloader's own split (asked for with triangulate) goes wrong
+// on concave faces: a quad along its shorter diagonal even where that lies outside, and 5
+// corners or more by an ear test measured about the origin, which drops or adds area
+// depending on where the face is. Here:
+//  - a quad along its shorter diagonal (tinyobjloader's rule, worked out in float as it does,
+//    so that the usual quads split as before), unless a triangle of that split turns against
+//    the face (its normal by Newell's method): then along the other;
+//  - 5 to 256 corners by ear clipping in the face's plane (projected along the normal's
+//    largest axis): a corner is cut off where it turns as the face does and no other corner
+//    lies in its triangle; where none is (a face that crosses itself), the first corner left;
+//  - a face with no area (its normal 0) or of more than 256 corners (ear clipping takes time
+//    growing as the cube of the corners) as a fan from its first corner.
+// (Into `out`, emptied first: one list for all of a file's faces.)
+void face_triangles(const std::vector<glm::vec3>& p, std::vector<std::array<std::size_t, 3>>& out) {
+    const std::size_t n = p.size();
+    out.clear();
+    if (n == 3) {
+        out.push_back({0, 1, 2});
+        return;
+    }
+    glm::dvec3 normal(0.0);  // Newell's method: twice the face's vector area
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 a(p[i]), b(p[(i + 1) % n]);
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    const auto turns_with_face = [&](std::size_t i, std::size_t j, std::size_t k) {
+        return glm::dot(glm::cross(glm::dvec3(p[j]) - glm::dvec3(p[i]), glm::dvec3(p[k]) - glm::dvec3(p[i])), normal) >= 0.0;
+    };
+    if (n == 4) {
+        const glm::vec3 e02 = p[2] - p[0], e13 = p[3] - p[1];
+        const bool along_02 = glm::dot(e02, e02) < glm::dot(e13, e13);
+        const bool fits_02 = turns_with_face(0, 1, 2) && turns_with_face(0, 2, 3);
+        const bool fits_13 = turns_with_face(0, 1, 3) && turns_with_face(1, 2, 3);
+        if (along_02 ? fits_02 || !fits_13 : !fits_13 && fits_02)
+            out.insert(out.end(), {{0, 1, 2}, {0, 2, 3}});
+        else
+            out.insert(out.end(), {{0, 1, 3}, {1, 2, 3}});
+        return;
+    }
+    const glm::dvec3 size = glm::abs(normal);
+    if (!(size.x + size.y + size.z > 0.0) || n > 256) {
+        for (std::size_t i = 1; i + 1 < n; ++i) out.push_back({0, i, i + 1});
+        return;
+    }
+    // The plane's axes, in the order that makes the face turn counter-clockwise.
+    const int drop = size.x >= size.y && size.x >= size.z ? 0 : size.y >= size.z ? 1 : 2;
+    const int first = (drop + 1) % 3, second = (drop + 2) % 3;
+    const bool flip = normal[drop] < 0.0;
+    std::vector<glm::dvec2> q(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 point(p[i][first], p[i][second]);
+        q[i] = flip ? glm::dvec2(point.y, point.x) : point;
+    }
+    const auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
+        return (q[b].x - q[a].x) * (q[c].y - q[a].y) - (q[b].y - q[a].y) * (q[c].x - q[a].x);
+    };
+    std::vector<std::size_t> left(n);
+    for (std::size_t i = 0; i < n; ++i) left[i] = i;
+    while (left.size() > 3) {
+        const std::size_t m = left.size();
+        std::size_t cut = 0;  // (none found: the first corner left)
+        for (std::size_t k = 0; k < m; ++k) {
+            const std::size_t a = left[(k + m - 1) % m], b = left[k], c = left[(k + 1) % m];
+            if (!(cross(a, b, c) > 0.0)) continue;  // turns against the face, or straight
+            bool empty = true;
+            for (const std::size_t d : left) {
+                if (d == a || d == b || d == c || q[d] == q[a] || q[d] == q[b] || q[d] == q[c]) continue;
+                if (cross(a, b, d) >= 0.0 && cross(b, c, d) >= 0.0 && cross(c, a, d) >= 0.0) { empty = false; break; }
+            }
+            if (empty) { cut = k; break; }
+        }
+        out.push_back({left[(cut + m - 1) % m], left[cut], left[(cut + 1) % m]});
+        left.erase(left.begin() + std::ptrdiff_t(cut));
+    }
+    out.push_back({left[0], left[1], left[2]});
+}
+
 }  // namespace
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
@@ -350,7 +428,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         std::istringstream cleaned(lines.clean ? text_without_comments(path) : std::string());
         std::string warning, error;
         if (!tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warning, &error, lines.clean ? static_cast<std::istream*>(&cleaned) : &file,
-                              &mtl_files, /*triangulate=*/true, /*default_vcols_fallback=*/false))
+                              &mtl_files, /*triangulate=*/false, /*default_vcols_fallback=*/false))
             throw InputError(path, 0, "not a readable OBJ file: " + first_line(error));
     }
 
@@ -380,19 +458,14 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     };
 
     std::vector<int> usemtl_material(lines.names.size(), -1);  // by name index, resolved on first use
+    // Each face of k corners is k - 2 triangles (face_triangles), as read_obj_lines counted
+    // them for their usemtl names: the faces tinyobjloader read must be those it read.
     std::size_t total_triangles = 0;
-    for (const tinyobj::shape_t& shape : shapes) total_triangles += shape.mesh.num_face_vertices.size();
-    // tinyobjloader can split a face with repeated or collinear corners into fewer triangles
-    // than k - 2 (or none): the triangles' usemtl names can then be matched to them only when
-    // every face has the same one (its material ids would lose names no .mtl describes).
-    const bool counted = lines.per_triangle.size() == total_triangles;
-    const bool one_name = std::adjacent_find(lines.per_triangle.begin(), lines.per_triangle.end(),
-                                             std::not_equal_to<std::uint32_t>()) == lines.per_triangle.end();
-    if (!counted && (!one_name || lines.per_triangle.empty()))
-        throw InputError(path, 0, "tinyobjloader split the faces into " + std::to_string(total_triangles) + " triangles, not the " +
-                                      std::to_string(lines.per_triangle.size()) +
-                                      " their corners give (a face with repeated or collinear corners?), so which usemtl "
-                                      "material each one has is lost");
+    for (const tinyobj::shape_t& shape : shapes)
+        for (const unsigned corners : shape.mesh.num_face_vertices) total_triangles += corners >= 3 ? corners - 2 : 0;
+    if (total_triangles != lines.per_triangle.size())
+        throw InputError(path, 0, "tinyobjloader read faces of " + std::to_string(total_triangles) + " triangles, not the " +
+                                      std::to_string(lines.per_triangle.size()) + " the file's face lines give");
 
     Mesh mesh;
     mesh.source = path;
@@ -414,47 +487,61 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
+    std::vector<glm::vec3> corners;
+    std::vector<std::array<std::size_t, 3>> face_split;
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
-        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            std::array<std::uint32_t, 3> triangle{};
-            bool face_has_uv = true;
-            for (int k = 0; k < 3; ++k) {
-                const tinyobj::index_t& idx = indices[3 * f + std::size_t(k)];
-                if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
-                    throw InputError(path, 0, "face refers to a vertex that does not exist");
-                if (idx.normal_index >= normal_count)
-                    throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
-                if (idx.texcoord_index >= uv_count)
-                    throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
-                face_has_uv = face_has_uv && idx.texcoord_index >= 0;
-                const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
-                auto found = vertex_of.find(key);
-                if (found == vertex_of.end()) {
-                    Vertex v;
-                    const std::size_t p = 3 * std::size_t(idx.vertex_index);
-                    v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
-                    if (idx.normal_index >= 0) {
-                        const std::size_t n = 3 * std::size_t(idx.normal_index);
-                        v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
-                    }
-                    if (idx.texcoord_index >= 0) {
-                        const std::size_t t = 2 * std::size_t(idx.texcoord_index);
-                        v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
-                    }
-                    found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
-                    mesh.vertices.push_back(v);
-                    position_of.push_back(idx.vertex_index);
-                    normal_given.push_back(idx.normal_index >= 0 && v.normal != glm::vec3(0.0f));
-                }
-                triangle[std::size_t(k)] = found->second;
+        std::size_t face_start = 0;  // the face's first corner in indices
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); face_start += shape.mesh.num_face_vertices[f], ++f) {
+            const std::size_t corner_count = shape.mesh.num_face_vertices[f];
+            if (corner_count < 3 || face_start + corner_count > indices.size()) continue;  // (read_obj_lines refuses such faces)
+            corners.clear();
+            for (std::size_t k = 0; k < corner_count; ++k) {
+                const int vertex = indices[face_start + k].vertex_index;
+                if (vertex < 0 || vertex >= position_count) throw InputError(path, 0, "face refers to a vertex that does not exist");
+                const std::size_t at = 3 * std::size_t(vertex);
+                corners.emplace_back(attrib.vertices[at], attrib.vertices[at + 1], attrib.vertices[at + 2]);
             }
-            mesh.has_uv = mesh.has_uv && face_has_uv;
-            mesh.triangles.push_back(triangle);
-            // (not counted alike: every face has the one name, the first)
-            const std::uint32_t n = counted ? lines.per_triangle[mesh.triangles.size() - 1] : lines.per_triangle.front();
-            if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
-            mesh.triangle_material.push_back(usemtl_material[n]);
+            face_triangles(corners, face_split);
+            for (const std::array<std::size_t, 3>& corner_of : face_split) {
+                std::array<std::uint32_t, 3> triangle{};
+                bool face_has_uv = true;
+                for (int k = 0; k < 3; ++k) {
+                    const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];
+                    if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
+                        throw InputError(path, 0, "face refers to a vertex that does not exist");
+                    if (idx.normal_index >= normal_count)
+                        throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
+                    if (idx.texcoord_index >= uv_count)
+                        throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
+                    face_has_uv = face_has_uv && idx.texcoord_index >= 0;
+                    const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
+                    auto found = vertex_of.find(key);
+                    if (found == vertex_of.end()) {
+                        Vertex v;
+                        const std::size_t p = 3 * std::size_t(idx.vertex_index);
+                        v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
+                        if (idx.normal_index >= 0) {
+                            const std::size_t n = 3 * std::size_t(idx.normal_index);
+                            v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
+                        }
+                        if (idx.texcoord_index >= 0) {
+                            const std::size_t t = 2 * std::size_t(idx.texcoord_index);
+                            v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
+                        }
+                        found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
+                        mesh.vertices.push_back(v);
+                        position_of.push_back(idx.vertex_index);
+                        normal_given.push_back(idx.normal_index >= 0 && v.normal != glm::vec3(0.0f));
+                    }
+                    triangle[std::size_t(k)] = found->second;
+                }
+                mesh.has_uv = mesh.has_uv && face_has_uv;
+                mesh.triangles.push_back(triangle);
+                const std::uint32_t n = lines.per_triangle[mesh.triangles.size() - 1];
+                if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
+                mesh.triangle_material.push_back(usemtl_material[n]);
+            }
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
