@@ -366,6 +366,23 @@ TEST_CASE("OBJ normals: the file's are kept where other faces have none, and com
                 CHECK(n == glm::vec3(0.0f, 0.0f, 1.0f));
             }
         }
+    // Faces of different areas, and a quad (split in two, but one face): a quad of area 4
+    // facing +z and a triangle of area 2 facing +x share the positions (2, 0, 0) and (2, 2, 0).
+    // Their vector areas (twice the area along the normal) are (0, 0, 8) and (4, 0, 0): both
+    // shared corners take (4, 0, 8) normalised, (1, 0, 2) / sqrt(5), whichever diagonal splits
+    // the quad; the quad's other corners its own (0, 0, 1), the triangle's its own (1, 0, 0).
+    testing::write_text(dir + "/areas.obj", "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 2 0 -2\nf 1 2 3 4\nf 2 5 3\n");
+    mesh = load_obj(dir + "/areas.obj", [](const ObjMaterialInfo&) { return 0; });
+    REQUIRE(mesh.vertices.size() == 5);
+    for (const Vertex& v : mesh.vertices) {
+        CAPTURE(v.position.x);
+        CAPTURE(v.position.y);
+        CAPTURE(v.position.z);
+        const glm::dvec3 expected = v.position.x == 2.0f && v.position.z == 0.0f ? glm::dvec3(1, 0, 2) / std::sqrt(5.0)
+                                    : v.position.z == 0.0f                       ? glm::dvec3(0, 0, 1)
+                                                                                 : glm::dvec3(1, 0, 0);
+        for (int k = 0; k < 3; ++k) CHECK(v.normal[k] == doctest::Approx(expected[k]).epsilon(1e-6));
+    }
     // Rendered, lit from the front (L = (0, 0, 1) towards the light): N . L = 1/sqrt(2) on the
     // left faces (the file's normal, normalised when shading), 1 on the right.
     const Framebuffer fb = render_text("size 100 60\ncamera eye 0 0 3 target 0 0 0 fov 60\nlight directional 0 0 -1\n"
@@ -403,18 +420,23 @@ TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the
     // A cube seen from outside shows at most 3 faces: at least 3 (6 triangles) face away.
     // Culling them leaves the frame as it is without culling (the depth test hides them), with
     // or without a mirroring transform (scale -1 1 1 turns the winding over on screen).
+    // Also at a scale of 1e-110 (the camera too), where the transform's determinant, 1e-330,
+    // is below the smallest double.
     const std::string cube = testing::source_path("models/cube.obj");
-    const auto frame = [&](const std::string& options, RenderStats& stats) {
-        std::istringstream in("size 120 120\ncamera eye 1.5 1.2 2.5 target 0 0 0 fov 45\nlight directional -0.5 -1 -0.4\n"
+    const auto frame = [&](const std::string& scale, const std::string& options, RenderStats& stats) {
+        std::istringstream in("size 120 120\ncamera eye 1.5" + scale + " 1.2" + scale + " 2.5" + scale + " target 0 0 0 fov 45 near 0.1" +
+                              scale + " far 100" + scale + "\nlight directional -0.5 -1 -0.4\n"
                               "material side color 0.9 0.3 0.3 lighting lambert\nmaterial cap color 0.3 0.3 0.9 lighting lambert\n"
-                              "mesh " + cube + " " + options + "\n");
+                              "mesh " + cube + " scale 1" + scale + " " + options + "\n");
         const Scene scene = parse_scene(in, "cull.scene");
         return render(scene, RenderOptions{}, stats);
     };
+    for (const std::string scale : {"", "e-110"})
     for (const std::string mirror : {"", "scale -1 1 1", "scale 1 -1 1 rotate 30 0 1 0", "scale -1 -1 -1"}) {
+        CAPTURE(scale);
         CAPTURE(mirror);
         RenderStats all, culled;
-        const Framebuffer plain = frame(mirror, all), cut = frame(mirror + " cull back", culled);
+        const Framebuffer plain = frame(scale, mirror, all), cut = frame(scale, mirror + " cull back", culled);
         CHECK(all.triangles_culled == 0);
         CHECK(culled.triangles_culled >= 6);
         int drawn = 0, differing = 0;
@@ -425,6 +447,32 @@ TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the
         CHECK(drawn > 2000);
         CHECK(differing == 0);
     }
+    // Cut by the near plane (clipped pieces): the cube mirrored by its transform, culled, is the
+    // cube mirrored in its file (x negated, each face's corners in the other order), culled.
+    const std::string dir = testing::scratch_folder("cull-mirrored");
+    const std::string corners = "v -0.5 -0.5 -0.5\nv -0.5 -0.5 0.5\nv -0.5 0.5 -0.5\nv -0.5 0.5 0.5\n";
+    const std::string faces = "f 6 5 7 8\nf 1 2 4 3\nf 4 8 7 3\nf 1 5 6 2\nf 2 6 8 4\nf 5 1 3 7\n";
+    testing::write_text(dir + "/box.obj", corners + "v 0.5 -0.5 -0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 -0.5\nv 0.5 0.5 0.5\n" + faces);
+    std::string mirrored_corners = "v 0.5 -0.5 -0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 -0.5\nv 0.5 0.5 0.5\n"
+                                   "v -0.5 -0.5 -0.5\nv -0.5 -0.5 0.5\nv -0.5 0.5 -0.5\nv -0.5 0.5 0.5\n";
+    testing::write_text(dir + "/mirror.obj", mirrored_corners + "f 8 7 5 6\nf 3 4 2 1\nf 3 7 8 4\nf 2 6 5 1\nf 4 8 6 2\nf 7 3 1 5\n");
+    const auto near_frame = [&](const std::string& mesh, RenderStats& stats) {
+        std::istringstream in("size 100 100\ncamera eye 0.2 0.3 0.9 target 0 0 0 fov 60 near 0.5\nlight directional -0.5 -1 -0.4\n"
+                              "ambient 0.1 0.1 0.1\nmaterial m color 0.9 0.5 0.3 lighting lambert\nmesh " + mesh + " material m cull back\n");
+        return render(parse_scene(in, "near.scene"), RenderOptions{}, stats);
+    };
+    RenderStats by_transform_stats, in_file_stats;
+    const Framebuffer by_transform = near_frame(dir + "/box.obj scale -1 1 1", by_transform_stats);
+    const Framebuffer in_file = near_frame(dir + "/mirror.obj", in_file_stats);
+    CHECK(by_transform_stats.triangles_clipped > 0);
+    CHECK(by_transform_stats.triangles_culled == in_file_stats.triangles_culled);
+    int drawn = 0, differing = 0;
+    for (std::size_t i = 0; i < by_transform.color.size(); ++i) {
+        drawn += by_transform.drawn(i) ? 1 : 0;
+        differing += (by_transform.drawn(i) != in_file.drawn(i) || glm::length(by_transform.color[i] - in_file.color[i]) > 1e-5f) ? 1 : 0;
+    }
+    CHECK(drawn > 1000);
+    CHECK(differing == 0);
 }
 
 TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, concave ones too, wherever the face lies") {
@@ -440,15 +488,25 @@ TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, co
         {"U", {{0, 0}, {3, 0}, {3, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}},
         {"dart", {{0.5, -1}, {0, 1.5}, {-0.5, -1}, {0, -0.8}}},  // concave at its last corner
         {"dart turned", {{0, -0.8}, {0.5, -1}, {0, 1.5}, {-0.5, -1}}},
+        {"dart turned twice", {{-0.5, -1}, {0, -0.8}, {0.5, -1}, {0, 1.5}}},
+        {"dart turned thrice", {{0, 1.5}, {-0.5, -1}, {0, -0.8}, {0.5, -1}}},
+        // two squares that touch at a corner (1, 1), written as one face through it twice
+        {"pinch", {{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 1}}},
+        // a square with a spike of no width out to (3, 1) and back
+        {"spike", {{0, 0}, {2, 0}, {2, 1}, {3, 1}, {2, 1}, {2, 2}, {0, 2}}},
         {"pentagon", {{0, 0}, {2, 0}, {2.5, 1}, {1, 2}, {-0.5, 1}}},
         {"comb", {{0, 0}, {5, 0}, {5, 3}, {4, 3}, {4, 1}, {3, 1}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}},
     };
+    // The face in the plane z = 0, x = 0 or y = 0 (axis: the one it faces; its corners' (x, y)
+    // go to the plane's axes in the order that keeps it counter-clockwise seen from there).
     for (const Face& face : faces)
         for (const glm::dvec2 offset : {glm::dvec2(0, 0), glm::dvec2(-2.5, -0.5), glm::dvec2(-1.5, 3), glm::dvec2(100, -40)})
-            for (const bool mirrored : {false, true}) {  // mirrored: the corners in the other order (clockwise)
+            for (const bool mirrored : {false, true})  // mirrored: the corners in the other order (clockwise)
+                for (const int axis : {2, 0, 1}) {
                 CAPTURE(std::string(face.name));
                 CAPTURE(offset.x);
                 CAPTURE(mirrored);
+                CAPTURE(axis);
                 std::string obj, f = "f";
                 const std::size_t n = face.corners.size();
                 double shoelace = 0.0;
@@ -456,8 +514,10 @@ TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, co
                 const auto corner = [&](std::size_t i) { return glm::dvec2(glm::vec2(face.corners[i % n] + offset)); };
                 for (std::size_t i = 0; i < n; ++i) {
                     const glm::dvec2 a = corner(i), b = corner(i + 1);
-                    char line[64];
-                    std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", a.x, a.y);
+                    char line[80];
+                    glm::dvec3 p(0.0);
+                    p[(axis + 1) % 3] = a.x, p[(axis + 2) % 3] = a.y;
+                    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
                     obj += line;
                     f += " " + std::to_string(mirrored ? n - i : i + 1);
                     shoelace += a.x * b.y - b.x * a.y;
@@ -468,12 +528,35 @@ TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, co
                 double total = 0.0;
                 for (const auto& t : mesh.triangles) {
                     const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
-                    const double area = glm::cross(b - a, c - a).z;  // twice the signed area, seen from +z
+                    const double area = glm::cross(b - a, c - a)[axis];  // twice the signed area, seen from the axis
                     CHECK((mirrored ? -area : area) >= -1e-9);       // turns as the face does
                     total += area;
                 }
                 CHECK(std::fabs(total) == doctest::Approx(std::fabs(shoelace)).epsilon(1e-9));
             }
+    // Faces of 255 to 300 corners (tinyobjloader keeps a face's count in a byte: 256 read as
+    // 0), a regular polygon of radius 1: k - 2 triangles, of area k sin(2 pi / k) / 2 in all.
+    for (const int k : {255, 256, 257, 300}) {
+        CAPTURE(k);
+        std::string obj, f = "f";
+        for (int i = 0; i < k; ++i) {
+            char line[80];
+            std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", std::cos(2 * M_PI * i / k), std::sin(2 * M_PI * i / k));
+            obj += line;
+            f += " " + std::to_string(i + 1);
+        }
+        testing::write_text(dir + "/round.obj", obj + f + "\nf 1 2 3\n");
+        const Mesh mesh = load_obj(dir + "/round.obj", [](const ObjMaterialInfo&) { return 0; });
+        REQUIRE(mesh.triangles.size() == std::size_t(k - 2 + 1));
+        double total = 0.0;
+        for (std::size_t t = 0; t + 1 < mesh.triangles.size(); ++t) {
+            const auto& tri = mesh.triangles[t];
+            const glm::dvec3 a(mesh.vertices[tri[0]].position), b(mesh.vertices[tri[1]].position), c(mesh.vertices[tri[2]].position);
+            CHECK(glm::cross(b - a, c - a).z >= -1e-9);
+            total += glm::cross(b - a, c - a).z / 2.0;
+        }
+        CHECK(total == doctest::Approx(k * std::sin(2 * M_PI / k) / 2).epsilon(1e-5));
+    }
     // Rendered: the L of a review (corners from (-2.5, -0.5)), seen from the front. Its lower
     // left arm holds world point (-2.3, -0.3), at pixel (34, 85): drawn; its notch (-1, 1) is
     // not, at pixel (70, 49) ((x + 1.5) / (4 tan 25) * 60 + 60, (0.5 - y) / (4 tan 25) * 60 + 60).

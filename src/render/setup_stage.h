@@ -3,6 +3,7 @@
 // and the plane equations of depth, u', v', q and whatever else the material needs.
 // Internal to the renderer: included by src/render/renderer.cpp only.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -115,8 +116,14 @@ public:
         const Object& object = scene_.objects[std::size_t(object_index)];
         const Mesh& mesh = scene_.meshes[std::size_t(object.mesh)];
         // A transform that mirrors (a negative determinant, such as scale -1 1 1) turns the
-        // faces' winding over: their fronts are then clockwise on screen.
-        const bool mirrored = glm::determinant(glm::dmat3(object.transform)) < 0.0;
+        // faces' winding over: their fronts are then clockwise on screen. (Each column scaled
+        // to a largest entry of 1 first: the determinant of a scale of 1e-110 underflows to -0.)
+        glm::dmat3 axes(object.transform);
+        for (int i = 0; i < 3; ++i) {
+            const double largest = std::max({std::fabs(axes[i].x), std::fabs(axes[i].y), std::fabs(axes[i].z)});
+            if (largest > 0.0) axes[i] /= largest;
+        }
+        const bool mirrored = glm::determinant(axes) < 0.0;
         for (std::size_t t = first; t < last; ++t) prepare_triangle(object_index, object, mirrored, mesh, vertices, t, out);
     }
 

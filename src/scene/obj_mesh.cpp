@@ -54,6 +54,9 @@ std::string first_line(const std::string& text) {
 struct ObjLines {
     std::vector<std::string> names{std::string()};  // names[0]: before any usemtl
     std::vector<std::uint32_t> per_triangle;
+    // Each face's corners, in file order (tinyobjloader keeps a face's count in an unsigned
+    // char: 256 corners read as 0).
+    std::vector<std::size_t> face_corners;
     bool clean = false;
     std::vector<std::string> material_files;  // the .mtl files read
 };
@@ -325,6 +328,7 @@ ObjLines read_obj_lines(const std::string& path) {
                 }
             }
             if (corners < 3) fail("a face (f) needs at least 3 corners");
+            out.face_corners.push_back(corners);
             for (std::size_t k = 2; k < corners; ++k) out.per_triangle.push_back(current);
         }
     }
@@ -342,10 +346,11 @@ ObjLines read_obj_lines(const std::string& path) {
 // depending on where the face is. Here:
 //  - a quad along its shorter diagonal (tinyobjloader's rule, worked out in float as it does,
 //    so that the usual quads split as before), unless a triangle of that split turns against
-//    the face (its normal by Newell's method): then along the other;
+//    the face in its plane (below): then along the other;
 //  - 5 to 256 corners by ear clipping in the face's plane (projected along the normal's
-//    largest axis): a corner is cut off where it turns as the face does and no other corner
-//    lies in its triangle; where none is (a face that crosses itself), the first corner left;
+//    largest axis): a corner with no area (straight, or a spike's tip) is cut off first, else
+//    one that turns as the face does, with no other corner in its triangle and a new edge
+//    that crosses none of the face's; where none is (a face that crosses itself), the first;
 //  - a face with no area (its normal 0) or of more than 256 corners (ear clipping takes time
 //    growing as the cube of the corners) as a fan from its first corner.
 // (Into `out`, emptied first: one list for all of a file's faces.)
@@ -361,22 +366,9 @@ void face_triangles(const std::vector<glm::vec3>& p, std::vector<std::array<std:
         const glm::dvec3 a(p[i]), b(p[(i + 1) % n]);
         normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
     }
-    const auto turns_with_face = [&](std::size_t i, std::size_t j, std::size_t k) {
-        return glm::dot(glm::cross(glm::dvec3(p[j]) - glm::dvec3(p[i]), glm::dvec3(p[k]) - glm::dvec3(p[i])), normal) >= 0.0;
-    };
-    if (n == 4) {
-        const glm::vec3 e02 = p[2] - p[0], e13 = p[3] - p[1];
-        const bool along_02 = glm::dot(e02, e02) < glm::dot(e13, e13);
-        const bool fits_02 = turns_with_face(0, 1, 2) && turns_with_face(0, 2, 3);
-        const bool fits_13 = turns_with_face(0, 1, 3) && turns_with_face(1, 2, 3);
-        if (along_02 ? fits_02 || !fits_13 : !fits_13 && fits_02)
-            out.insert(out.end(), {{0, 1, 2}, {0, 2, 3}});
-        else
-            out.insert(out.end(), {{0, 1, 3}, {1, 2, 3}});
-        return;
-    }
     const glm::dvec3 size = glm::abs(normal);
-    if (!(size.x + size.y + size.z > 0.0) || n > 256) {
+    const bool flat = !(size.x + size.y + size.z > 0.0);  // no area (or NaN)
+    if ((flat && n != 4) || n > 256) {
         for (std::size_t i = 1; i + 1 < n; ++i) out.push_back({0, i, i + 1});
         return;
     }
@@ -392,21 +384,53 @@ void face_triangles(const std::vector<glm::vec3>& p, std::vector<std::array<std:
     const auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
         return (q[b].x - q[a].x) * (q[c].y - q[a].y) - (q[b].y - q[a].y) * (q[c].x - q[a].x);
     };
+    if (n == 4) {
+        const glm::vec3 e02 = p[2] - p[0], e13 = p[3] - p[1];
+        const bool along_02 = glm::dot(e02, e02) < glm::dot(e13, e13);
+        // (in the plane: a quad far from flat, such as a terrain's, still splits the short way
+        // where it is convex seen along its normal)
+        const bool fits_02 = flat || (cross(0, 1, 2) >= 0.0 && cross(0, 2, 3) >= 0.0);
+        const bool fits_13 = flat || (cross(0, 1, 3) >= 0.0 && cross(1, 2, 3) >= 0.0);
+        if (along_02 ? fits_02 || !fits_13 : !fits_13 && fits_02)
+            out.insert(out.end(), {{0, 1, 2}, {0, 2, 3}});
+        else
+            out.insert(out.end(), {{0, 1, 3}, {1, 2, 3}});
+        return;
+    }
     std::vector<std::size_t> left(n);
     for (std::size_t i = 0; i < n; ++i) left[i] = i;
+    // Whether the segment a c crosses an edge of what is left (one that does not end at a or c)
+    // at a point inside both: an ear across a corner where the face touches itself.
+    const auto crosses_an_edge = [&](std::size_t a, std::size_t c) {
+        const std::size_t m = left.size();
+        for (std::size_t j = 0; j < m; ++j) {
+            const std::size_t d = left[j], e = left[(j + 1) % m];
+            if (d == a || d == c || e == a || e == c) continue;
+            const double s1 = cross(a, c, d), s2 = cross(a, c, e), s3 = cross(d, e, a), s4 = cross(d, e, c);
+            if (((s1 > 0.0 && s2 < 0.0) || (s1 < 0.0 && s2 > 0.0)) && ((s3 > 0.0 && s4 < 0.0) || (s3 < 0.0 && s4 > 0.0))) return true;
+        }
+        return false;
+    };
     while (left.size() > 3) {
         const std::size_t m = left.size();
-        std::size_t cut = 0;  // (none found: the first corner left)
-        for (std::size_t k = 0; k < m; ++k) {
+        // First a corner with no area (a straight one, or the tip of a spike of no width, such
+        // as what is left of a face through one place twice): its triangle covers nothing.
+        std::size_t cut = m;
+        for (std::size_t k = 0; k < m && cut == m; ++k)
+            if (cross(left[(k + m - 1) % m], left[k], left[(k + 1) % m]) == 0.0) cut = k;
+        for (std::size_t k = 0; k < m && cut == m; ++k) {
             const std::size_t a = left[(k + m - 1) % m], b = left[k], c = left[(k + 1) % m];
-            if (!(cross(a, b, c) > 0.0)) continue;  // turns against the face, or straight
+            if (!(cross(a, b, c) > 0.0)) continue;  // turns against the face
             bool empty = true;
             for (const std::size_t d : left) {
+                // (a corner at the same place as one of the ear's: a hole's bridge, or where the
+                // face touches itself, which crosses_an_edge tells)
                 if (d == a || d == b || d == c || q[d] == q[a] || q[d] == q[b] || q[d] == q[c]) continue;
                 if (cross(a, b, d) >= 0.0 && cross(b, c, d) >= 0.0 && cross(c, a, d) >= 0.0) { empty = false; break; }
             }
-            if (empty) { cut = k; break; }
+            if (empty && !crosses_an_edge(a, c)) cut = k;
         }
+        if (cut == m) cut = 0;  // (no ear: a face that crosses itself)
         out.push_back({left[(cut + m - 1) % m], left[cut], left[(cut + 1) % m]});
         left.erase(left.begin() + std::ptrdiff_t(cut));
     }
@@ -459,13 +483,16 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
 
     std::vector<int> usemtl_material(lines.names.size(), -1);  // by name index, resolved on first use
     // Each face of k corners is k - 2 triangles (face_triangles), as read_obj_lines counted
-    // them for their usemtl names: the faces tinyobjloader read must be those it read.
-    std::size_t total_triangles = 0;
-    for (const tinyobj::shape_t& shape : shapes)
-        for (const unsigned corners : shape.mesh.num_face_vertices) total_triangles += corners >= 3 ? corners - 2 : 0;
-    if (total_triangles != lines.per_triangle.size())
-        throw InputError(path, 0, "tinyobjloader read faces of " + std::to_string(total_triangles) + " triangles, not the " +
-                                      std::to_string(lines.per_triangle.size()) + " the file's face lines give");
+    // them for their usemtl names. The faces are read_obj_lines' (its corner counts: those
+    // tinyobjloader keeps wrap at 256), which tinyobjloader must have read too, corner for corner.
+    std::size_t face_count = 0, corner_total = 0;
+    for (const tinyobj::shape_t& shape : shapes) face_count += shape.mesh.num_face_vertices.size(), corner_total += shape.mesh.indices.size();
+    std::size_t corners_read = 0;
+    for (const std::size_t k : lines.face_corners) corners_read += k;
+    if (face_count != lines.face_corners.size() || corner_total != corners_read)
+        throw InputError(path, 0, "tinyobjloader read " + std::to_string(face_count) + " faces of " + std::to_string(corner_total) +
+                                      " corners, not the " + std::to_string(lines.face_corners.size()) + " of " +
+                                      std::to_string(corners_read) + " the file's face lines give");
 
     Mesh mesh;
     mesh.source = path;
@@ -489,18 +516,34 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     const int uv_count = int(attrib.texcoords.size() / 2);
     std::vector<glm::vec3> corners;
     std::vector<std::array<std::size_t, 3>> face_split;
+    // The normals the file does not give are worked out from the faces around each position:
+    // each face's vector area (Newell's method, twice the area along the face's normal) added
+    // once at each of its positions.
+    std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
+    std::vector<std::size_t> last_face_at(std::size_t(position_count), std::size_t(-1));  // (each position once a face)
+    std::size_t face_number = 0;
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
         std::size_t face_start = 0;  // the face's first corner in indices
-        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); face_start += shape.mesh.num_face_vertices[f], ++f) {
-            const std::size_t corner_count = shape.mesh.num_face_vertices[f];
-            if (corner_count < 3 || face_start + corner_count > indices.size()) continue;  // (read_obj_lines refuses such faces)
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face_number) {
+            const std::size_t corner_count = lines.face_corners[face_number];
+            if (corner_count % 256 != shape.mesh.num_face_vertices[f] || face_start + corner_count > indices.size())
+                throw InputError(path, 0, "tinyobjloader read face " + std::to_string(face_number + 1) + " with other corners than its line gives");
             corners.clear();
+            glm::dvec3 area(0.0);
             for (std::size_t k = 0; k < corner_count; ++k) {
                 const int vertex = indices[face_start + k].vertex_index;
                 if (vertex < 0 || vertex >= position_count) throw InputError(path, 0, "face refers to a vertex that does not exist");
                 const std::size_t at = 3 * std::size_t(vertex);
                 corners.emplace_back(attrib.vertices[at], attrib.vertices[at + 1], attrib.vertices[at + 2]);
+            }
+            for (std::size_t k = 0; k < corner_count; ++k) {
+                const glm::dvec3 a(corners[k]), b(corners[(k + 1) % corner_count]);
+                area += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+            }
+            for (std::size_t k = 0; k < corner_count; ++k) {
+                const std::size_t position = std::size_t(indices[face_start + k].vertex_index);
+                if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
             }
             face_triangles(corners, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
@@ -542,6 +585,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
                 mesh.triangle_material.push_back(usemtl_material[n]);
             }
+            face_start += corner_count;
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
@@ -550,14 +594,8 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     // The normals the file does not give (a corner without vn, or a vn of length 0, which has
     // no direction): the area-weighted mean of the normals of the faces around the corner's
     // position (its v index, whatever the corners' vt and vn: a texture seam is no crease),
-    // by the faces' winding. Given normals are kept.
+    // by the faces' winding (`around`, above). Given normals are kept.
     if (std::find(normal_given.begin(), normal_given.end(), false) != normal_given.end()) {
-        std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
-        for (const auto& t : mesh.triangles) {
-            const glm::dvec3 a(mesh.vertices[t[0]].position), b(mesh.vertices[t[1]].position), c(mesh.vertices[t[2]].position);
-            const glm::dvec3 n = glm::cross(b - a, c - a);  // twice the face's area, along its normal
-            for (const std::uint32_t i : t) around[std::size_t(position_of[i])] += n;
-        }
         for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
             if (normal_given[i]) continue;
             const glm::dvec3 sum = around[std::size_t(position_of[i])];
