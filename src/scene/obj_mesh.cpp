@@ -339,6 +339,17 @@ ObjLines read_obj_lines(const std::string& path) {
     return out;
 }
 
+// Twice a face's vector area (Newell's method): along its normal, by its winding, for any
+// number of corners.
+glm::dvec3 newell_area(const std::vector<glm::vec3>& p) {
+    glm::dvec3 sum(0.0);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const glm::dvec3 a(p[i]), b(p[(i + 1) % p.size()]);
+        sum += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    return sum;
+}
+
 // A face's triangles, as corner numbers of the face (k - 2 of them for k corners, each
 // turning as the face does). tinyobjloader's own split (asked for with triangulate) goes wrong
 // on concave faces: a quad along its shorter diagonal even where that lies outside, and 5
@@ -353,18 +364,13 @@ ObjLines read_obj_lines(const std::string& path) {
 //    that crosses none of the face's; where none is (a face that crosses itself), the first;
 //  - a face with no area (its normal 0) or of more than 256 corners (ear clipping takes time
 //    growing as the cube of the corners) as a fan from its first corner.
-// (Into `out`, emptied first: one list for all of a file's faces.)
-void face_triangles(const std::vector<glm::vec3>& p, std::vector<std::array<std::size_t, 3>>& out) {
+// `normal`: newell_area(p). (Into `out`, emptied first: one list for all of a file's faces.)
+void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, std::vector<std::array<std::size_t, 3>>& out) {
     const std::size_t n = p.size();
     out.clear();
     if (n == 3) {
         out.push_back({0, 1, 2});
         return;
-    }
-    glm::dvec3 normal(0.0);  // Newell's method: twice the face's vector area
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec3 a(p[i]), b(p[(i + 1) % n]);
-        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
     }
     const glm::dvec3 size = glm::abs(normal);
     const bool flat = !(size.x + size.y + size.z > 0.0);  // no area (or NaN)
@@ -530,29 +536,23 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             if (corner_count % 256 != shape.mesh.num_face_vertices[f] || face_start + corner_count > indices.size())
                 throw InputError(path, 0, "tinyobjloader read face " + std::to_string(face_number + 1) + " with other corners than its line gives");
             corners.clear();
-            glm::dvec3 area(0.0);
             for (std::size_t k = 0; k < corner_count; ++k) {
                 const int vertex = indices[face_start + k].vertex_index;
                 if (vertex < 0 || vertex >= position_count) throw InputError(path, 0, "face refers to a vertex that does not exist");
                 const std::size_t at = 3 * std::size_t(vertex);
                 corners.emplace_back(attrib.vertices[at], attrib.vertices[at + 1], attrib.vertices[at + 2]);
             }
-            for (std::size_t k = 0; k < corner_count; ++k) {
-                const glm::dvec3 a(corners[k]), b(corners[(k + 1) % corner_count]);
-                area += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-            }
+            const glm::dvec3 area = newell_area(corners);
             for (std::size_t k = 0; k < corner_count; ++k) {
                 const std::size_t position = std::size_t(indices[face_start + k].vertex_index);
                 if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
             }
-            face_triangles(corners, face_split);
+            face_triangles(corners, area, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
                 std::array<std::uint32_t, 3> triangle{};
                 bool face_has_uv = true;
                 for (int k = 0; k < 3; ++k) {
-                    const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];
-                    if (idx.vertex_index < 0 || idx.vertex_index >= position_count)
-                        throw InputError(path, 0, "face refers to a vertex that does not exist");
+                    const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];  // (its v checked above)
                     if (idx.normal_index >= normal_count)
                         throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
                     if (idx.texcoord_index >= uv_count)

@@ -509,8 +509,8 @@ private:
         mesh.source = file_ + ":" + std::to_string(c.line_number());
         scene_.files.push_back(path);
         scene_.files.insert(scene_.files.end(), mesh.material_files.begin(), mesh.material_files.end());
-        if (!mesh.has_normals) fill_smooth_normals(mesh);
-        else replace_zero_normals(mesh);
+        // (load_obj gives every vertex a normal: the file's, or computed where it gives none or
+        // one of length 0)
         add_object(c, material >= 0 ? material_at : path_at, std::move(mesh), object, path);
     }
 
@@ -623,8 +623,9 @@ private:
         scene_.objects.push_back(object);
     }
 
-    // A normal of length 0 (`vn 0 0 0`, which some exporters write for degenerate faces) has no
-    // direction: shading would normalise it to NaN. Such vertices take the computed normal.
+    // A normal of length 0 (`n 0 0 0` on a triangle or quad; an OBJ's `vn 0 0 0`, which some
+    // exporters write for degenerate faces, load_obj replaces) has no direction: shading would
+    // normalise it to NaN. Such vertices take the computed normal.
     static void replace_zero_normals(Mesh& mesh) {
         const auto zero = [](const Vertex& v) { return v.normal == glm::vec3(0.0f); };
         if (std::none_of(mesh.vertices.begin(), mesh.vertices.end(), zero)) return;
