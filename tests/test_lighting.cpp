@@ -476,8 +476,10 @@ TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the
 }
 
 TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, concave ones too, wherever the face lies") {
-    // Property: the triangles of a simple face, each turning as the face does, whose areas add
-    // up to the face's own (the shoelace formula, worked out here), cover it exactly once.
+    // Property: the triangles of a face, each turning as the face does, whose areas add up to
+    // the face's own (the shoelace formula, worked out here), cover it exactly once, where it
+    // winds once around each point inside it: a simple face, or one that touches itself (a
+    // hole joined by a bridge, a corner it passes twice, a spike of no width).
     const std::string dir = testing::scratch_folder("obj-concave");
     struct Face {
         const char* name;
@@ -496,6 +498,13 @@ TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, co
         {"spike", {{0, 0}, {2, 0}, {2, 1}, {3, 1}, {2, 1}, {2, 2}, {0, 2}}},
         {"pentagon", {{0, 0}, {2, 0}, {2.5, 1}, {1, 2}, {-0.5, 1}}},
         {"comb", {{0, 0}, {5, 0}, {5, 3}, {4, 3}, {4, 1}, {3, 1}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}},
+        // a hole (2, 5) (2, 6) (6, 5) (5, 4), joined to the outline by a bridge (2, 4)-(2, 5)
+        // that lines up with an edge of each (a review's fuzzer found it covered wrongly)
+        {"bridged hole", {{8, 5}, {1, 8}, {2, 4}, {2, 5}, {2, 6}, {6, 5}, {5, 4}, {2, 5}, {2, 4}, {2, 2}}},
+        // two holes joined by bridges, and spikes of no width into them (from the same fuzzer)
+        {"holes and spikes", {{11, 6}, {13, 12}, {7, 8}, {11, 8}, {9, 4}, {7, 8}, {13, 12}, {2, 15}, {5, 1},
+                              {5, 3}, {5, 9}, {4, 13}, {3, 14}, {4, 13}, {5, 11}, {5, 9}, {5, 3}, {8, 13},
+                              {5, 1}, {2, 15}, {3, 1}, {1, 14}, {0, 5}, {1, 14}, {3, 1}, {5, 0}, {14, 7}}},
     };
     // The face in the plane z = 0, x = 0 or y = 0 (axis: the one it faces; its corners' (x, y)
     // go to the plane's axes in the order that keeps it counter-clockwise seen from there).

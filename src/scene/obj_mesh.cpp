@@ -360,8 +360,8 @@ glm::dvec3 newell_area(const std::vector<glm::vec3>& p) {
 //    the face in its plane (below): then along the other;
 //  - 5 to 256 corners by ear clipping in the face's plane (projected along the normal's
 //    largest axis): a corner with no area (straight, or a spike's tip) is cut off first, else
-//    one that turns as the face does, with no other corner in its triangle and a new edge
-//    that crosses none of the face's; where none is (a face that crosses itself), the first;
+//    an ear, a corner whose triangle turns as the face does and lies where the face winds
+//    once (is_ear, below); where none is (a face that crosses itself), the first;
 //  - a face with no area (its normal 0) or of more than 256 corners (ear clipping takes time
 //    growing as the cube of the corners) as a fan from its first corner.
 // `normal`: newell_area(p). (Into `out`, emptied first: one list for all of a file's faces.)
@@ -405,38 +405,60 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
     }
     std::vector<std::size_t> left(n);
     for (std::size_t i = 0; i < n; ++i) left[i] = i;
-    // Whether the segment a c crosses an edge of what is left (one that does not end at a or c)
-    // at a point inside both: an ear across a corner where the face touches itself.
-    const auto crosses_an_edge = [&](std::size_t a, std::size_t c) {
+    // Whether edge d e has a point inside the open triangle a b c (counter-clockwise): true
+    // unless a line keeps them apart, and for a triangle and a segment that is one of the
+    // triangle's sides or the segment's own line (an edge along a side, or one that meets the
+    // triangle at a corner only, does not enter). The triangle's own two sides never enter.
+    const auto enters = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d, std::size_t e) {
+        if ((cross(a, b, d) <= 0.0 && cross(a, b, e) <= 0.0) || (cross(b, c, d) <= 0.0 && cross(b, c, e) <= 0.0) ||
+            (cross(c, a, d) <= 0.0 && cross(c, a, e) <= 0.0))
+            return false;
+        if (q[d] == q[e]) return true;  // an edge of no length, inside (it has no line)
+        const double sa = cross(d, e, a), sb = cross(d, e, b), sc = cross(d, e, c);
+        return !((sa >= 0.0 && sb >= 0.0 && sc >= 0.0) || (sa <= 0.0 && sb <= 0.0 && sc <= 0.0));
+    };
+    // How many times what is left of the face winds around the point g (counter-clockwise
+    // positive): each edge that passes g's row counts +1 upward with g on its left, -1
+    // downward with g on its right.
+    const auto winding = [&](const glm::dvec2& g) {
+        int w = 0;
         const std::size_t m = left.size();
         for (std::size_t j = 0; j < m; ++j) {
-            const std::size_t d = left[j], e = left[(j + 1) % m];
-            if (d == a || d == c || e == a || e == c) continue;
-            const double s1 = cross(a, c, d), s2 = cross(a, c, e), s3 = cross(d, e, a), s4 = cross(d, e, c);
-            if (((s1 > 0.0 && s2 < 0.0) || (s1 < 0.0 && s2 > 0.0)) && ((s3 > 0.0 && s4 < 0.0) || (s3 < 0.0 && s4 > 0.0))) return true;
+            const glm::dvec2 d = q[left[j]], e = q[left[(j + 1) % m]];
+            const double side = (e.x - d.x) * (g.y - d.y) - (e.y - d.y) * (g.x - d.x);
+            if (d.y <= g.y) {
+                if (e.y > g.y && side > 0.0) ++w;
+            } else if (e.y <= g.y && side < 0.0) {
+                --w;
+            }
         }
-        return false;
+        return w;
+    };
+    // Corner b (between a and c) is an ear when its triangle turns as the face does and lies
+    // where what is left of the face winds exactly once: no edge enters the triangle (so the
+    // winding is the same all over it), and it winds once around the triangle's centroid.
+    // Cutting it off takes the triangle's area from the face and leaves the rest winding as
+    // before, whatever the face's shape: holes joined by bridges, corners where the face
+    // touches itself, straight corners and spikes of no width. (Looking for corners inside
+    // the triangle is not enough there: an edge can enter it from a place at one of its
+    // corners, as a hole's bridge does, and leave it across a side.)
+    const auto is_ear = [&](std::size_t a, std::size_t b, std::size_t c) {
+        if (!(cross(a, b, c) > 0.0)) return false;
+        const std::size_t m = left.size();
+        for (std::size_t j = 0; j < m; ++j)
+            if (enters(a, b, c, left[j], left[(j + 1) % m])) return false;
+        return winding((q[a] + q[b] + q[c]) / 3.0) == 1;
     };
     while (left.size() > 3) {
         const std::size_t m = left.size();
-        // First a corner with no area (a straight one, or the tip of a spike of no width, such
-        // as what is left of a face through one place twice): its triangle covers nothing.
+        // First a corner with no area (a straight one, or the tip of a spike of no width):
+        // its triangle covers nothing, and the face winds as before without it.
         std::size_t cut = m;
         for (std::size_t k = 0; k < m && cut == m; ++k)
             if (cross(left[(k + m - 1) % m], left[k], left[(k + 1) % m]) == 0.0) cut = k;
-        for (std::size_t k = 0; k < m && cut == m; ++k) {
-            const std::size_t a = left[(k + m - 1) % m], b = left[k], c = left[(k + 1) % m];
-            if (!(cross(a, b, c) > 0.0)) continue;  // turns against the face
-            bool empty = true;
-            for (const std::size_t d : left) {
-                // (a corner at the same place as one of the ear's: a hole's bridge, or where the
-                // face touches itself, which crosses_an_edge tells)
-                if (d == a || d == b || d == c || q[d] == q[a] || q[d] == q[b] || q[d] == q[c]) continue;
-                if (cross(a, b, d) >= 0.0 && cross(b, c, d) >= 0.0 && cross(c, a, d) >= 0.0) { empty = false; break; }
-            }
-            if (empty && !crosses_an_edge(a, c)) cut = k;
-        }
-        if (cut == m) cut = 0;  // (no ear: a face that crosses itself)
+        for (std::size_t k = 0; k < m && cut == m; ++k)
+            if (is_ear(left[(k + m - 1) % m], left[k], left[(k + 1) % m])) cut = k;
+        if (cut == m) cut = 0;  // (no ear: a face that crosses itself, which has no one inside)
         out.push_back({left[(cut + m - 1) % m], left[cut], left[(cut + 1) % m]});
         left.erase(left.begin() + std::ptrdiff_t(cut));
     }
