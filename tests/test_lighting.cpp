@@ -4,11 +4,14 @@
 // of the transformed surface from its edges), not from the renderer's plane equations.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <stb_image_write.h>
@@ -576,4 +579,168 @@ TEST_CASE("OBJ faces are split into k - 2 triangles that cover the face once, co
     CHECK(fb.drawn(fb.index(34, 85)));
     CHECK_FALSE(fb.drawn(fb.index(70, 49)));
     CHECK(stats.triangles_in == 4);
+}
+
+TEST_CASE("OBJ faces that outline a maze of unit cells (holes joined by bridges, walls of no width) are covered once") {
+    // Random sets of unit cells on a 6 x 6 grid, each joined by a random spanning tree of its
+    // neighbours: the wall between two neighbours not joined in the tree stays. The face is
+    // the walk around the tree's cells with them on the left, so it passes each remaining inner
+    // wall twice (a spike or a bridge of no width, along a line of the grid that other edges
+    // lie on too), joins every hole in the cells to the outline, and passes some grid points
+    // several times. It winds once around each cell and nowhere else, so its area is the
+    // number of cells, worked out here without the face. Straight corners are kept or dropped
+    // at random. Then, whatever the split: k - 2 triangles, none turning against the face,
+    // their areas adding up to the cell count, and every cell's centre covered by exactly one.
+    const std::string dir = testing::scratch_folder("obj-maze");
+    std::mt19937 random(20261129);
+    const auto chance = [&](double p) { return std::uniform_real_distribution<double>(0.0, 1.0)(random) < p; };
+    constexpr int grid = 6;
+    // Sides of cell (x, y), counter-clockwise: 0 bottom, 1 right, 2 top, 3 left; side s starts
+    // at corner s of (x, y) (x + 1, y) (x + 1, y + 1) (x, y + 1).
+    const int step_x[4] = {0, 1, 0, -1}, step_y[4] = {-1, 0, 1, 0};
+    const int corner_x[4] = {0, 1, 1, 0}, corner_y[4] = {0, 0, 1, 1};
+    struct MazeFace {
+        std::vector<glm::ivec2> corners;
+        int cells = 0;
+        std::vector<glm::ivec2> cell_list;
+        int axis = 2;
+        bool mirrored = false;
+    };
+    std::vector<MazeFace> faces;
+    while (faces.size() < 300) {
+        bool in[grid][grid] = {}, joined[grid][grid][4] = {}, seen[grid][grid] = {};
+        for (auto& row : in)
+            for (bool& cell : row) cell = chance(0.65);
+        const int sx = int(random() % grid), sy = int(random() % grid);
+        if (!in[sx][sy]) continue;
+        // A random spanning tree of the cells reachable from (sx, sy): a search that takes a
+        // random cell off its frontier each time.
+        MazeFace face;
+        std::vector<glm::ivec2> frontier{{sx, sy}};
+        seen[sx][sy] = true;
+        while (!frontier.empty()) {
+            const std::size_t pick = random() % frontier.size();
+            const glm::ivec2 c = frontier[pick];
+            frontier.erase(frontier.begin() + std::ptrdiff_t(pick));
+            face.cell_list.push_back(c);
+            for (int s = 0; s < 4; ++s) {
+                const int nx = c.x + step_x[s], ny = c.y + step_y[s];
+                if (nx < 0 || ny < 0 || nx >= grid || ny >= grid || !in[nx][ny] || seen[nx][ny]) continue;
+                seen[nx][ny] = true, joined[c.x][c.y][s] = joined[nx][ny][(s + 2) % 4] = true;
+                frontier.push_back({nx, ny});
+            }
+        }
+        face.cells = int(face.cell_list.size());
+        if (face.cells < 2) continue;
+        // The walk: from side s of cell c, the next side counter-clockwise is s + 1; where it is
+        // joined to a neighbour, the walk goes on in the neighbour, after the shared side.
+        // (from a walled side: some cell has one, the leftmost cell its left side)
+        glm::ivec2 c = face.cell_list[0];
+        int s = 0;
+        for (const glm::ivec2 cell : face.cell_list) {
+            for (s = 0; s < 4 && joined[cell.x][cell.y][s]; ++s) {
+            }
+            if (s < 4) {
+                c = cell;
+                break;
+            }
+        }
+        const glm::ivec2 start = c;
+        const int start_side = s;
+        std::vector<glm::ivec2> walk;
+        do {
+            int next = (s + 1) % 4;
+            while (joined[c.x][c.y][next]) {  // into the neighbour across side `next`
+                c += glm::ivec2(step_x[next], step_y[next]);
+                next = (next + 2 + 1) % 4;
+            }
+            s = next;
+            walk.push_back(c + glm::ivec2(corner_x[s], corner_y[s]));  // where side s starts
+        } while (!(c == start && s == start_side));
+        for (std::size_t i = 0; i < walk.size(); ++i) {
+            const glm::ivec2 a = walk[(i + walk.size() - 1) % walk.size()], b = walk[i], d = walk[(i + 1) % walk.size()];
+            const glm::ivec2 in_dir = b - a, out_dir = d - b;
+            const bool straight = in_dir == out_dir;
+            if (!(straight && chance(0.6))) face.corners.push_back(b);
+        }
+        if (face.corners.size() < 5 || face.corners.size() > 256) continue;
+        face.axis = int(random() % 3), face.mirrored = chance(0.5);
+        faces.push_back(face);
+    }
+    // One file of all the faces, each in its plane (offset by 100 along the plane's axes).
+    std::string obj, lines;
+    std::size_t vertices = 0;
+    for (const MazeFace& face : faces) {
+        const std::size_t n = face.corners.size();
+        std::string f = "f";
+        for (std::size_t i = 0; i < n; ++i) {
+            int p[3] = {0, 0, 0};
+            p[(face.axis + 1) % 3] = face.corners[i].x + 100, p[(face.axis + 2) % 3] = face.corners[i].y - 100;
+            obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+            f += " " + std::to_string(vertices + (face.mirrored ? n - i : i + 1));
+        }
+        vertices += n;
+        lines += f + "\n";
+    }
+    testing::write_text(dir + "/maze.obj", obj + lines);
+    const Mesh mesh = load_obj(dir + "/maze.obj", [](const ObjMaterialInfo&) { return 0; });
+    std::size_t expected = 0;
+    for (const MazeFace& face : faces) expected += face.corners.size() - 2;
+    REQUIRE(mesh.triangles.size() == expected);
+    std::size_t first = 0;
+    int wrong_faces = 0;
+    for (std::size_t fi = 0; fi < faces.size(); ++fi) {
+        const MazeFace& face = faces[fi];
+        const std::size_t count = face.corners.size() - 2;
+        // Each triangle in the face's grid coordinates, twice its signed area turned so that the
+        // face's own winding is positive.
+        std::vector<std::array<glm::dvec2, 3>> triangles;
+        double total = 0.0;
+        bool against = false;
+        for (std::size_t t = first; t < first + count; ++t) {
+            std::array<glm::dvec2, 3> tri;
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec3 p(mesh.vertices[mesh.triangles[t][k]].position);
+                tri[k] = {p[(face.axis + 1) % 3] - 100, p[(face.axis + 2) % 3] + 100};
+            }
+            const double area = (tri[1].x - tri[0].x) * (tri[2].y - tri[0].y) - (tri[1].y - tri[0].y) * (tri[2].x - tri[0].x);
+            const double turned = face.mirrored ? -area : area;
+            against = against || turned < 0.0;
+            total += turned;
+            triangles.push_back(tri);
+        }
+        first += count;
+        // Every cell's centre in exactly one triangle (strictly inside: a centre is on no line
+        // through two grid points' halves... it lies on none of the triangles' edges, whose
+        // corners are grid points, unless an edge passes through it diagonally; the centre is
+        // nudged off such lines).
+        int miscovered = 0;
+        for (const glm::ivec2 cell : face.cell_list) {
+            const glm::dvec2 point(cell.x + 0.5 + 1.0 / 64, cell.y + 0.5 + 1.0 / 128);
+            int covering = 0;
+            for (const auto& tri : triangles) {
+                double sides[3];
+                for (int k = 0; k < 3; ++k) {
+                    const glm::dvec2 a = tri[k], b = tri[(k + 1) % 3];
+                    sides[k] = (b.x - a.x) * (point.y - a.y) - (b.y - a.y) * (point.x - a.x);
+                }
+                if ((sides[0] > 0 && sides[1] > 0 && sides[2] > 0) || (sides[0] < 0 && sides[1] < 0 && sides[2] < 0)) ++covering;
+            }
+            if (covering != 1) ++miscovered;
+        }
+        if (against || total != 2.0 * face.cells || miscovered != 0) {
+            ++wrong_faces;
+            if (wrong_faces <= 3) {
+                std::string corners;
+                for (const glm::ivec2 p : face.corners) corners += " (" + std::to_string(p.x) + "," + std::to_string(p.y) + ")";
+                CAPTURE(corners);
+                CAPTURE(face.axis);
+                CAPTURE(face.mirrored);
+                CHECK_FALSE(against);
+                CHECK(total == 2.0 * face.cells);
+                CHECK(miscovered == 0);
+            }
+        }
+    }
+    CHECK(wrong_faces == 0);
 }
