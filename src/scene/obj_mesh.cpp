@@ -407,9 +407,9 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
     std::vector<std::size_t> left(n);
     for (std::size_t i = 0; i < n; ++i) left[i] = i;
     // Whether edge d e has a point inside the open triangle a b c (counter-clockwise): true
-    // unless a line keeps them apart, and for a triangle and a segment that is one of the
-    // triangle's sides or the segment's own line (an edge along a side, or one that meets the
-    // triangle at a corner only, does not enter). The triangle's own two sides never enter.
+    // unless a line keeps them apart, and for a triangle and a segment the lines to try are
+    // those of the triangle's three sides and the segment's own. An edge along a side, or one
+    // that meets the triangle at a corner only, does not enter; nor do the triangle's sides.
     const auto enters = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d, std::size_t e) {
         if ((cross(a, b, d) <= 0.0 && cross(a, b, e) <= 0.0) || (cross(b, c, d) <= 0.0 && cross(b, c, e) <= 0.0) ||
             (cross(c, a, d) <= 0.0 && cross(c, a, e) <= 0.0))
@@ -441,9 +441,9 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
     // Cutting it off takes the triangle's area from the face and leaves the rest winding as
     // before. A face whose edges meet but never cross always has one, whatever its shape:
     // holes joined by bridges, corners where the face touches itself, straight corners and
-    // spikes of no width. (Looking for corners inside
-    // the triangle is not enough there: an edge can enter it from a place at one of its
-    // corners, as a hole's bridge does, and leave it across a side.)
+    // spikes of no width. (Looking for corners inside the triangle is not enough there: an
+    // edge can enter it from a place at one of its corners, as a hole's bridge does, and
+    // leave it across a side.)
     const auto is_ear = [&](std::size_t a, std::size_t b, std::size_t c) {
         if (!(cross(a, b, c) > 0.0)) return false;
         const std::size_t m = left.size();
