@@ -714,10 +714,9 @@ TEST_CASE("OBJ faces that outline a maze of unit cells (holes joined by bridges,
             triangles.push_back(tri);
         }
         first += count;
-        // Every cell's centre in exactly one triangle (strictly inside: a centre is on no line
-        // through two grid points' halves... it lies on none of the triangles' edges, whose
-        // corners are grid points, unless an edge passes through it diagonally; the centre is
-        // nudged off such lines).
+        // Every cell's centre in exactly one triangle, strictly inside it. (A diagonal between
+        // grid points can pass through a cell's centre, so the point tried is nudged by 1/64 and
+        // 1/128 of a cell: no line through two grid points of the 6 x 6 grid passes through it.)
         int miscovered = 0;
         for (const glm::ivec2 cell : face.cell_list) {
             const glm::dvec2 point(cell.x + 0.5 + 1.0 / 64, cell.y + 0.5 + 1.0 / 128);
