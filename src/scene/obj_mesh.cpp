@@ -388,9 +388,11 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
         const glm::dvec2 point(p[i][first], p[i][second]);
         q[i] = flip ? glm::dvec2(point.y, point.x) : point;
     }
-    const auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
-        return (q[b].x - q[a].x) * (q[c].y - q[a].y) - (q[b].y - q[a].y) * (q[c].x - q[a].x);
+    // Twice the signed area of a b c: positive where it turns counter-clockwise.
+    const auto turn = [](const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+        return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     };
+    const auto cross = [&](std::size_t a, std::size_t b, std::size_t c) { return turn(q[a], q[b], q[c]); };
     if (n == 4) {
         const glm::vec3 e02 = p[2] - p[0], e13 = p[3] - p[1];
         const bool along_02 = glm::dot(e02, e02) < glm::dot(e13, e13);
@@ -426,7 +428,7 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
         const std::size_t m = left.size();
         for (std::size_t j = 0; j < m; ++j) {
             const glm::dvec2 d = q[left[j]], e = q[left[(j + 1) % m]];
-            const double side = (e.x - d.x) * (g.y - d.y) - (e.y - d.y) * (g.x - d.x);
+            const double side = turn(d, e, g);
             if (d.y <= g.y) {
                 if (e.y > g.y && side > 0.0) ++w;
             } else if (e.y <= g.y && side < 0.0) {
@@ -585,8 +587,12 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 throw InputError(path, 0, "tinyobjloader read face " + std::to_string(face_number + 1) + " with other corners than its line gives");
             corners.clear();
             for (std::size_t k = 0; k < corner_count; ++k) {
-                const int vertex = indices[face_start + k].vertex_index;
+                const tinyobj::index_t& idx = indices[face_start + k];
+                const int vertex = idx.vertex_index;
                 if (vertex < 0 || vertex >= position_count) throw InputError(path, 0, "face refers to a vertex that does not exist");
+                if (idx.normal_index >= normal_count) throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
+                if (idx.texcoord_index >= uv_count)
+                    throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
                 const std::size_t at = 3 * std::size_t(vertex);
                 corners.emplace_back(attrib.vertices[at], attrib.vertices[at + 1], attrib.vertices[at + 2]);
             }
@@ -600,11 +606,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 std::array<std::uint32_t, 3> triangle{};
                 bool face_has_uv = true;
                 for (int k = 0; k < 3; ++k) {
-                    const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];  // (its v checked above)
-                    if (idx.normal_index >= normal_count)
-                        throw InputError(path, 0, "face refers to a normal (vn) that does not exist");
-                    if (idx.texcoord_index >= uv_count)
-                        throw InputError(path, 0, "face refers to a texture coordinate (vt) that does not exist");
+                    const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];  // (checked above)
                     face_has_uv = face_has_uv && idx.texcoord_index >= 0;
                     const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
                     auto found = vertex_of.find(key);
