@@ -141,24 +141,36 @@ TEST_CASE("Lambert under a non-uniform scale and a rotation: normals follow the 
 TEST_CASE("Lambert with normals that vary over a triangle seen at an angle: perspective-correct, on every texture path") {
     // A floor triangle whose three normals differ, seen obliquely, lit from straight above:
     // each pixel's N . L is the y of the normalised normal at the world point P it sees,
-    // where the normal is the vertices' normals weighted by P's barycentric coordinates in
-    // the world triangle (perspective-correct interpolation is linear on the surface). An
-    // affine interpolation in screen space would differ by up to tens of percent here.
+    // where the normal is the vertices' unit normals weighted by P's barycentric coordinates
+    // in the world triangle (perspective-correct interpolation is linear on the surface). An
+    // affine interpolation in screen space would differ by up to tens of percent here. The
+    // normals are given at lengths 1, sqrt 5 and sqrt 10: weighing the given vectors instead
+    // of their directions would differ by up to 0.21 here. Then the same triangle scaled by
+    // (1.5, 1, 0.5): its corners move, and its normals turn by the inverse transpose,
+    // diag(1/1.5, 1, 2), which also leaves them at new, unequal lengths.
     // The same with a white texture: a bilinear 2x2 image takes the span walk's short,
     // batched path, which steps the normals its own way.
     const std::string dir = testing::scratch_folder("lighting");
     testing::write_text(dir + "/white.ppm", std::string("P6\n2 2\n255\n") + std::string(12, char(255)));
-    const glm::dvec3 a(-6.0, 0.0, 3.0), b(6.0, 0.0, 3.0), c(0.0, 0.0, -30.0);
-    const glm::dvec3 na(0.0, 1.0, 0.0), nb(2.0, 1.0, 0.0), nc(0.0, 1.0, -3.0);
     const std::string triangle = " v -6 0 3 0 0 n 0 1 0 v 6 0 3 1 0 n 2 1 0 v 0 0 -30 0.5 1 n 0 1 -3\n";
     const std::string common = "size 48 32\ncamera eye 0 1 2 target 0 0 -3 fov 90\nambient 0.5 0.5 0.5\n"
                                "light directional 0 -1 0 color 1 1 1\ntexture white file " + dir + "/white.ppm\n";
     // The camera's basis, for the ray through a pixel centre.
     const glm::dvec3 eye(0.0, 1.0, 2.0), forward = glm::normalize(glm::dvec3(0.0, 0.0, -3.0) - eye);
     const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 1.0, 0.0))), up = glm::cross(right, forward);
-    for (const std::string material : {"material m color 1 1 1 lighting lambert\n", "material m texture white lighting lambert\n"}) {
+    for (int variant = 0; variant < 4; ++variant) {
+        const std::string material = variant % 2 == 0 ? "material m color 1 1 1 lighting lambert\n"
+                                                       : "material m texture white lighting lambert\n";
+        const bool scaled = variant >= 2;
         CAPTURE(material);
-        const Framebuffer fb = render_text(common + material + "triangle material m" + triangle);
+        CAPTURE(scaled);
+        const std::string transform = scaled ? " scale 1.5 1 0.5" : "";
+        const glm::dvec3 scale = scaled ? glm::dvec3(1.5, 1.0, 0.5) : glm::dvec3(1.0);
+        const glm::dvec3 a = scale * glm::dvec3(-6.0, 0.0, 3.0), b = scale * glm::dvec3(6.0, 0.0, 3.0),
+                         c = scale * glm::dvec3(0.0, 0.0, -30.0);
+        const glm::dvec3 na = glm::dvec3(0.0, 1.0, 0.0) / scale, nb = glm::dvec3(2.0, 1.0, 0.0) / scale,
+                         nc = glm::dvec3(0.0, 1.0, -3.0) / scale;
+        const Framebuffer fb = render_text(common + material + "triangle material m" + transform + triangle);
         int checked = 0;
         double worst = 0.0;
         for (int y = 0; y < 32; ++y)
@@ -174,7 +186,7 @@ TEST_CASE("Lambert with normals that vary over a triangle seen at an angle: pers
                 const double whole = area(a, b, c);
                 const double wa = area(p, b, c) / whole, wb = area(a, p, c) / whole, wc = area(a, b, p) / whole;
                 if (std::min({wa, wb, wc}) < 0.02) continue;  // pixels at the edges may be the neighbour's
-                const double expected = ambient + glm::normalize(wa * na + wb * nb + wc * nc).y;
+                const double expected = ambient + glm::normalize(wa * glm::normalize(na) + wb * glm::normalize(nb) + wc * glm::normalize(nc)).y;
                 worst = std::max(worst, std::fabs(fb.color[fb.index(x, y)].x - expected));
                 ++checked;
             }

@@ -57,9 +57,12 @@ void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_pr
                std::size_t first, std::size_t last, TransformedMesh& v) {
     const glm::dmat4 to_clip = view_projection * object.transform;
     // The inverse transpose of the object's 3x3 part, worked out on that part times the power
-    // of two that brings its largest entry into [1, 2): normals are only directions (they are
-    // normalised per pixel), the scaling is exact, and a uniform scale of 1e-110 or 1e150 no
-    // longer overflows or underflows the inverse (it made every normal NaN).
+    // of two that brings its largest entry into [1, 2): normals are only directions, the
+    // scaling is exact, and a uniform scale of 1e-110 or 1e150 no longer overflows or
+    // underflows the inverse (it made every normal NaN). Each vertex's normal is then made
+    // unit length, so that interpolation weighs the corners' directions by the pixel's
+    // weights alone: not by the lengths a file gives them (vn 0 0 5 beside vn 0.6 0.8 0) nor
+    // by the lengths a non-uniform scale leaves them (per pixel they are normalised again).
     glm::dmat3 linear(object.transform);
     double largest = 0.0;
     for (int col = 0; col < 3; ++col)
@@ -73,7 +76,7 @@ void transform(const Mesh& mesh, const Object& object, const glm::dmat4& view_pr
         v.clip[i] = to_clip * p;
         v.code[i] = std::uint8_t(clip_outcode(v.clip[i], band) | (finite(v.clip[i]) ? 0 : TransformedMesh::not_finite));
         if (!v.world.empty()) v.world[i] = glm::dvec3(object.transform * p);
-        if (!v.normal.empty()) v.normal[i] = normal_matrix * glm::dvec3(mesh.vertices[i].normal);
+        if (!v.normal.empty()) v.normal[i] = unit_direction(normal_matrix * glm::dvec3(mesh.vertices[i].normal));
     }
 }
 
