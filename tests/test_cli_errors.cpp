@@ -1409,6 +1409,15 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {"v 0 0 1e39\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "beyond a float's range"},
         {triangle + "vn 0 -4e38 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "beyond a float's range"},
         {triangle + "vt 0 0\nvt 1 0\nvt 1e39 0\nf 1/1 2/2 3/3\n", "bad.obj:6: ", "'1e39' is beyond a float's range"},
+        // Vertex colours (v x y z r g b): on every vertex or none, each from 0 to 10000; no
+        // other count of numbers (tinyobjloader read 5 as no colour, 7 as a colour and one more)
+        {"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:3: ",
+         "a vertex without a colour, where 2 of the file's 3 vertices (the first at line 1) have one"},
+        {"v 0 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:1: ", "a vertex without a colour, where 2 of"},
+        {"v 0 0 0 1 0 0\nv 1 0 0 0 1 0 1\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:2: ", "not 7 numbers"},
+        {"v 0 0 0 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "not 5 numbers"},
+        {"v 0 0 0 1 0 0\nv 1 0 0 0 -0.5 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:2: ", "r, g and b from 0 to 10000"},
+        {"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 10001\nf 1 2 3\n", "bad.obj:3: ", "r, g and b from 0 to 10000"},
     };
     for (const Case& c : cases) {
         write_text(dir + "/bad.obj", c.obj);
@@ -1428,6 +1437,8 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
     for (const std::string& good : std::vector<std::string>{triangle + "f -3 -2 -1\n", "f 1 2 3\n" + triangle, "v 0 0 0#c\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
                                    "v 0 0 1e-400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", triangle + "f 1 2 3 # a comment\n",
                                    "v 0 0 3e38\nv 1 0 0\nv 0 1 0\nvt 3e38 0\nf 1/1 2/1 3/1\n",
+                                   "v 0 0 0 1\nv 1 0 0 0.5\nv 0 1 0\nf 1 2 3\n",  // (a w, no colour)
+                                   "v 0 0 0 0 0 0\nv 1 0 0 1 1 1\nv 0 1 0 10000 0 1\nf 1 2 3\n",
                                    "\xEF\xBB\xBF" + triangle + "f 1 2 3\n"}) {
         write_text(dir + "/good.obj", good);
         write_text(dir + "/scene.txt", "size 16 16\nmesh good.obj\n");

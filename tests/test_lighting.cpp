@@ -357,6 +357,47 @@ TEST_CASE("a scene built in code with colours or light vectors beyond a parsed s
     }
 }
 
+TEST_CASE("OBJ vertex colours (v x y z r g b) are sRGB, interpolated across the face like a scene triangle's c") {
+    // A floor triangle seen from straight above, its corners coloured in the OBJ file; each
+    // pixel's linear colour is the corners' decoded colours weighted by the barycentric
+    // coordinates of the world point it sees (found here from the camera, not the renderer).
+    // The same triangle written inline with `c` gives the same frame.
+    const std::string dir = testing::scratch_folder("obj-colours");
+    const glm::dvec3 a(-2.5, 0.0, 2.0), b(2.5, 0.0, 2.0), c(0.0, 0.0, -2.5);
+    const glm::dvec3 ca(1.0, 0.5, 0.0), cb(0.0, 1.0, 0.25), cc(0.2, 0.4, 1.0);
+    testing::write_text(dir + "/tri.obj", "v -2.5 0 2 1 0.5 0\nv 2.5 0 2 0 1 0.25\nv 0 0 -2.5 0.2 0.4 1\nf 1 2 3\n");
+    const std::string common = camera + "material paint vertex_colors on\n";
+    const Framebuffer fb = render_text(common + "mesh " + dir + "/tri.obj material paint\n");
+    const Framebuffer inline_fb =
+        render_text(common + "triangle material paint v -2.5 0 2 0 0 c 1 0.5 0 v 2.5 0 2 1 0 c 0 1 0.25 v 0 0 -2.5 0 1 c 0.2 0.4 1\n");
+    const auto decoded = [](glm::dvec3 srgb) { return glm::dvec3(linear_of(srgb.x), linear_of(srgb.y), linear_of(srgb.z)); };
+    int checked = 0, covered = 0, differ = 0;
+    double worst = 0.0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const std::size_t i = fb.index(x, y);
+            differ += fb.drawn(i) != inline_fb.drawn(i) || !(fb.color[i] == inline_fb.color[i]);
+            if (!fb.drawn(i)) continue;
+            ++covered;
+            const glm::dvec3 p = point_seen(x, y, 0.0);
+            const auto area = [](glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2) {
+                return (p1.x - p0.x) * (p2.z - p0.z) - (p2.x - p0.x) * (p1.z - p0.z);
+            };
+            const double whole = area(a, b, c);
+            const double wa = area(p, b, c) / whole, wb = area(a, p, c) / whole, wc = area(a, b, p) / whole;
+            if (std::min({wa, wb, wc}) < 0.02) continue;  // pixels at the edges
+            const glm::dvec3 expected = wa * decoded(ca) + wb * decoded(cb) + wc * decoded(cc);
+            const Color got = fb.color[i];
+            worst = std::max({worst, std::fabs(got.x - expected.x), std::fabs(got.y - expected.y), std::fabs(got.z - expected.z)});
+            ++checked;
+        }
+    CHECK(covered > 200);
+    CHECK(checked > 150);
+    CHECK(worst < 1e-3);  // (vertices snapped to 1/256 pixel; colours kept as floats)
+    CHECK(differ == 0);
+    MESSAGE("largest difference from the decoded colours' blend: ", worst, " over ", checked, " pixels");
+}
+
 TEST_CASE("OBJ normals: the file's are kept where other faces have none, and computed ones are shared by a position's corners") {
     // Worked out by hand: each computed normal is the sum of cross(b - a, c - a) over the
     // faces around the corner's position (v index), normalised.

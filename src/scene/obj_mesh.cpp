@@ -21,6 +21,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "texr/core/color.h"
 #include "texr/core/error.h"
 #include "texr/core/path.h"
 #include "texr/core/text_line.h"
@@ -37,8 +38,9 @@ std::string first_line(const std::string& text) {
 
 // What texr reads of an OBJ file itself, line by line, before tinyobjloader parses it:
 //  - every v, vt and vn line must hold numbers only (3 for v and vn, at least one for vt;
-//    v may carry a w or a colour), finite ones; tinyobjloader reads "x" or a missing
-//    coordinate as 0 without a word;
+//    v may carry a w, or a colour r g b from 0 to max_color), finite ones; tinyobjloader
+//    reads "x" or a missing coordinate as 0 without a word;
+//  - whether the vertices have colours (`colors`): on every v line or on none;
 //  - every face corner must name a position (and any vt or vn) of the file (negative indices
 //    count back from the last one defined above the face); tinyobjloader skips a quad with a
 //    bad index, with only a warning, which would also shift every later face's material;
@@ -59,6 +61,7 @@ struct ObjLines {
     std::vector<std::size_t> face_corners;
     bool clean = false;
     std::vector<std::string> material_files;  // the .mtl files read
+    bool colors = false;  // every v line has a colour (v x y z r g b)
 };
 
 // One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
@@ -232,6 +235,8 @@ ObjLines read_obj_lines(const std::string& path) {
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
     long long positions = 0, uvs = 0, normals = 0;  // defined so far
+    long long colored = 0;  // v lines with a colour
+    int first_colored = 0, first_plain = 0;  // the lines of the first v with a colour and without
     struct Reference {  // a face's positive index past what is defined above it
         long long index;
         int part, line;
@@ -258,6 +263,7 @@ ObjLines read_obj_lines(const std::string& path) {
         const std::string_view keyword = next_word();
         if (keyword == "v" || keyword == "vt" || keyword == "vn") {
             int count = 0;
+            double values[6] = {};
             for (std::string_view word = next_word(); !word.empty(); word = next_word(), ++count) {
                 const std::optional<double> value = number_in(word);
                 if (!value) fail("expected a number after " + shown_token(std::string(keyword)) + ", got " + shown_token(std::string(word)));
@@ -265,8 +271,21 @@ ObjLines read_obj_lines(const std::string& path) {
                 // tinyobjloader keeps positions, normals and texture coordinates as floats.
                 if (!(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
                     fail(shown_token(std::string(word)) + " is beyond a float's range (about 3.4e38)");
+                if (count < 6) values[count] = *value;
             }
             if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");
+            // (tinyobjloader would read 5 numbers as no colour, and 7 as x y z, a colour and one
+            // more: neither is a form of the format)
+            if (keyword == "v" && (count == 5 || count > 6))
+                fail("a vertex (v) holds x y z, x y z w or x y z r g b (a colour), not " + std::to_string(count) + " numbers");
+            if (keyword == "v" && count == 6) {
+                for (int k = 3; k < 6; ++k)
+                    if (!(values[k] >= 0.0 && values[k] <= max_color))
+                        fail("a vertex colour (v x y z r g b) needs r, g and b from 0 to " + max_color_text());
+                if (++colored == 1) first_colored = line_number;
+            } else if (keyword == "v" && first_plain == 0) {
+                first_plain = line_number;
+            }
             if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");
             if (keyword == "vt" && count < 1) fail("a texture coordinate (vt) needs u (and v)");
             (keyword == "v" ? positions : keyword == "vt" ? uvs : normals) += 1;
@@ -336,6 +355,12 @@ ObjLines read_obj_lines(const std::string& path) {
     for (const Reference& r : ahead)
         if (r.index > defined[r.part])
             throw InputError(path, r.line, "face refers to a " + std::string(what[r.part]) + " that does not exist (" + std::to_string(r.index) + ")");
+    // Vertex colours on every vertex or on none, as for a scene file's triangles and quads.
+    if (colored > 0 && colored < positions)
+        throw InputError(path, first_plain, "a vertex without a colour, where " + std::to_string(colored) + " of the file's " +
+                                                std::to_string(positions) + " vertices (the first at line " + std::to_string(first_colored) +
+                                                ") have one (v x y z r g b): give one on every v line, or none");
+    out.colors = colored > 0;
     return out;
 }
 
@@ -550,9 +575,13 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                                       " corners, not the " + std::to_string(lines.face_corners.size()) + " of " +
                                       std::to_string(corners_read) + " the file's face lines give");
 
+    if (lines.colors && attrib.colors.size() != attrib.vertices.size())
+        throw InputError(path, 0, "tinyobjloader read " + std::to_string(attrib.colors.size() / 3) + " vertex colours for " +
+                                      std::to_string(attrib.vertices.size() / 3) + " vertices");
     Mesh mesh;
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
+    mesh.has_colors = lines.colors;
     // One mesh vertex per distinct (position, normal, uv) index triple, numbered in order of
     // first use.
     struct CornerHash {
@@ -614,6 +643,9 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         Vertex v;
                         const std::size_t p = 3 * std::size_t(idx.vertex_index);
                         v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
+                        if (lines.colors)  // sRGB, as a scene file's colours
+                            v.color = {srgb_to_linear(attrib.colors[p]), srgb_to_linear(attrib.colors[p + 1]),
+                                       srgb_to_linear(attrib.colors[p + 2])};
                         if (idx.normal_index >= 0) {
                             const std::size_t n = 3 * std::size_t(idx.normal_index);
                             v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
