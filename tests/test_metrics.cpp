@@ -31,6 +31,10 @@ TEST_CASE("PSNR: identical is infinite, and an error of one level everywhere is 
     std::vector<bool> mask = all;
     mask[0] = false;
     CHECK(std::isinf(psnr(a, c, mask)));
+    // No pixel masked: nothing compared, no score (it read +infinity, and SSIM 1).
+    const std::vector<bool> none(16 * 8, false);
+    CHECK(std::isnan(psnr(a, b, none)));
+    CHECK(std::isnan(ssim(a, b, none)));
 }
 
 TEST_CASE("SSIM: 1 for identical frames, lower for noise, symmetric") {

@@ -3,6 +3,7 @@
 // --spp x --spp supersampled ground truth.
 #include "common.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -48,6 +49,8 @@ std::vector<FilterRow> bench_filters(const BenchOptions& o) {
         const Framebuffer truth = render(base, truth_options, truth_stats);
         const FrameBytes truth_bytes = bytes_of(truth);
         const std::vector<bool> mask = covered(truth);
+        if (std::find(mask.begin(), mask.end(), true) == mask.end())
+            std::fprintf(stderr, "bench filters: %s covers no pixel of the frame: PSNR and SSIM are nan (nothing to compare)\n", name.c_str());
         write_frame(truth, o.out + "/filters-" + name + "-truth.png");
 
         // Every filter's frames are timed in interleaved rounds (time_interleaved).

@@ -17,7 +17,8 @@ double psnr(const FrameBytes& a, const FrameBytes& b, const std::vector<bool>& m
         }
         count += 3;
     }
-    if (count == 0 || sum == 0.0) return std::numeric_limits<double>::infinity();
+    if (count == 0) return std::numeric_limits<double>::quiet_NaN();  // nothing to compare
+    if (sum == 0.0) return std::numeric_limits<double>::infinity();
     return 10.0 * std::log10(255.0 * 255.0 / (sum / double(count)));
 }
 
@@ -64,7 +65,7 @@ double ssim(const FrameBytes& a, const FrameBytes& b, const std::vector<bool>& m
             total += ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2));
             ++count;
         }
-    return count ? total / double(count) : 1.0;
+    return count ? total / double(count) : std::numeric_limits<double>::quiet_NaN();  // (nothing to compare)
 }
 
 }  // namespace texr

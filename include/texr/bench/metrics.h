@@ -16,7 +16,9 @@ struct FrameBytes {
     std::vector<std::uint8_t> rgb;  // 3 bytes per pixel, row 0 at the top
 };
 
-// +infinity when the masked pixels are identical.
+// PSNR is +infinity when the masked pixels are identical. Both are NaN for an empty mask (a
+// scene whose surfaces cover no pixel): nothing was compared, which is no score, not a
+// perfect one.
 double psnr(const FrameBytes& a, const FrameBytes& b, const std::vector<bool>& mask);
 double ssim(const FrameBytes& a, const FrameBytes& b, const std::vector<bool>& mask);
 
