@@ -746,6 +746,32 @@ TEST_CASE("texr explain shades the pixel step by step: texture value, vertex col
     CHECK(r.output.find("the background colour shows, linear (1.00000, 0.00000, 0.00000)") != std::string::npos);
 }
 
+TEST_CASE("texr explain on an OBJ without texture coordinates: the vertex colours' blend, and why M^-1 has no u', v' rows") {
+    // The camera at z = 3 (fov 60, 64x64) sees the corners (-1, -1), (1, -1), (0, 1) at
+    // pixels (13.5248, 50.4752), (50.4752, 50.4752), (32, 13.5248): snapped to 1/256,
+    // 13.5234375 and 50.4765625. At the centre of pixel (34, 30) the corners' weights are
+    // w2 = (50.4765625 - 30.5) / 36.953125 = 0.54059, and across the row, between
+    // x = 23.5117 and 40.4883, w1 = (1 - w2) (34.5 - 23.5117) / 16.9766 = 0.29736,
+    // w0 = 0.16205: with red, green and blue corners, the colour itself.
+    const std::string dir = scratch_folder("explain-obj-colours");
+    write_text(dir + "/tri.obj", "v -1 -1 0 1 0 0\nv 1 -1 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");
+    write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 3 target 0 0 0 fov 60\nmaterial paint vertex_colors on\n"
+                                   "mesh tri.obj material paint\ntriangle material paint v 0.6 -0.9 1 0 0 v 0.9 -0.9 1 0.5 0 v 0.75 -0.6 1 1 0\n");
+    RunResult r = run_texr("explain " + dir + "/scene.txt 34 30");
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("x vertex colour (0.16205, 0.29736, 0.54059)") != std::string::npos);
+    CHECK(r.output.find("the mesh has no texture coordinates here") != std::string::npos);
+    CHECK(r.output.find("collinear") == std::string::npos);
+    // A small triangle beside it (z = 1, around pixel (52, 54)) whose UVs lie on a line
+    // (v = 0): that one is told instead.
+    r = run_texr("explain " + dir + "/scene.txt 52 54");
+    CAPTURE(r.output);
+    CHECK(r.output.find("object 1") != std::string::npos);
+    CHECK(r.output.find("the UVs are collinear") != std::string::npos);
+    CHECK(r.output.find("no texture coordinates") == std::string::npos);
+}
+
 TEST_CASE("texr explain names the mip levels each filter reads, with lambda, probes and ellipse worked out by hand") {
     // The square of the test above with the 1024^2 detail texture over u, v in [0, 0.375]:
     // 384 texels over 64 pixels, 6 texels per pixel along x and y, lambda = log2 6 = 2.5850.
