@@ -1339,6 +1339,22 @@ TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.
     CHECK(missing.exit_code == 1);
     CHECK_FALSE(file_exists(models + "/out2"));
     CHECK(run_texr("bench --out ''").exit_code == 2);
+    // Scenes whose camera looks away from the textured triangle: nothing is covered, so
+    // nothing is scored (NaN, each target missed), and stderr says why (the spans errors read
+    // 0 and met the 1/64-texel bound; PSNR read +infinity).
+    const std::string away = "camera eye 0 0 3 target 0 0 6\ntexture t file " + source_path("models/textures/checker.png") +
+                             "\nmaterial m texture t\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1 material m\n";
+    write_text(models + "/bench/plane.scene", away);
+    write_text(models + "/bench/grazing.scene", away);
+    for (const char* name : {"filters", "spans"}) {
+        const RunResult r = run_texr(std::string("bench ") + name + " --quick --models " + models + " --out " + models + "/out3");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        CHECK(r.output.find(std::string("bench ") + name + ": plane covers no pixel of the frame") != std::string::npos);
+        CHECK(r.output.find("target met") == std::string::npos);
+        CHECK(r.output.find(std::string(name) == "spans" ? "max error <= 1/64 texel              nan texel" : "PSNR >= 35 dB") !=
+              std::string::npos);
+    }
 }
 
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "texr/bench/plot.h"
 #include "texr/raster/span_modes.h"
@@ -35,6 +36,10 @@ std::vector<SpanRow> bench_spans(const BenchOptions& o) {
         RenderStats reference_stats;
         const Framebuffer reference = render(scene, options, reference_stats);
         std::fprintf(stderr, "bench spans: %s\n", name.c_str());
+        // No pixel covered: no error was measured, which is no score (NaN), not an error of 0.
+        const double none = std::numeric_limits<double>::quiet_NaN();
+        if (reference_stats.pixels_shaded == 0)
+            std::fprintf(stderr, "bench spans: %s covers no pixel of the frame: the errors are nan (nothing to compare)\n", name.c_str());
         std::vector<SpanRow> scene_rows;
         std::vector<TimedCase> cases(span_mode_count);
         for (int m = 0; m < span_mode_count; ++m) {
@@ -54,8 +59,8 @@ std::vector<SpanRow> bench_spans(const BenchOptions& o) {
             cases[std::size_t(m)].scene = &scene;
             cases[std::size_t(m)].options = options;
             cases[std::size_t(m)].keep_last = false;  // the errors come from the captured frames above
-            scene_rows.push_back({name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, 0.0, max_error,
-                                  count ? sum / double(count) : 0.0, double(reference_stats.pixels_shaded)});
+            scene_rows.push_back({name, span_mode_name(SpanMode(m)), o.width, o.height, o.threads, 0.0, count ? max_error : none,
+                                  count ? sum / double(count) : none, double(reference_stats.pixels_shaded)});
         }
         // Every mode's frames are timed in interleaved rounds (time_interleaved).
         time_interleaved(cases, o.repeat);
