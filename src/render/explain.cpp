@@ -275,8 +275,9 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                       glm::determinant(*forward));
     } else if (const auto zero = [](const Plane& p) { return p.dx == 0.0 && p.dy == 0.0 && p.c == 0.0; };
                !mesh.has_uv && zero(e.h.u_prime) && zero(e.h.v_prime)) {
-        out += "   (the mesh has no texture coordinates here: every corner's u, v is 0, so the u' and v' rows\n"
-               "   are 0 and there is no forward M; the q row still gives 1/w, for perspective-correct attributes)\n";
+        out += "   (every corner's u, v is 0, as in a mesh without texture coordinates (this one has faces\n"
+               "   without vt): the u' and v' rows are 0 and there is no forward M; the q row still gives 1/w,\n"
+               "   for perspective-correct attributes)\n";
     } else {
         out += "   (the UVs are collinear: M^-1 is singular and there is no forward M; u, v are still defined)\n";
     }

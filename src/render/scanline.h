@@ -107,7 +107,7 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     if (d.material.lighting == Lighting::lambert) {
         Color irradiance = d.scene.ambient;
         if constexpr ((N & need_normal) != 0) {
-            const glm::dvec3 n = unit_direction(normal);  // (a scale of 1 1e-200 1 leaves normals of 1e200)
+            const glm::dvec3 n = unit_direction(normal);  // (corners' unit normals that nearly cancel blend to a tiny one)
             for (const Light& light : d.scene.lights) {
                 glm::dvec3 to_light = -light.vector;
                 if constexpr ((N & need_world_position) != 0)

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -62,6 +63,12 @@ struct ObjLines {
     bool clean = false;
     std::vector<std::string> material_files;  // the .mtl files read
     bool colors = false;  // every v line has a colour (v x y z r g b)
+    // Each v, vn and vt line's numbers as texr reads them, as floats (as tinyobjloader keeps
+    // them; for vt u and v, v = 0 where not given), and the line: what tinyobjloader stores is
+    // compared with them (same_numbers), as its reading differs in corners (0e500 is NaN to
+    // it, and 0 here).
+    std::vector<float> positions, colours, normals, uvs;
+    std::vector<int> position_lines, normal_lines, uv_lines;
 };
 
 // One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
@@ -120,6 +127,40 @@ std::optional<double> number_in(std::string_view word) {
     if (error == std::errc::result_out_of_range) return std::strtod(std::string(word).c_str(), nullptr);  // +-inf, or 0 or subnormal
     if (error != std::errc()) return std::nullopt;
     return value;
+}
+
+// Whether tinyobjloader gives up on the number in `word` (which number_in read): it reads
+// an exponent's digits into an int, and stops before one that would overflow it (past
+// 214748364); it then reads no vertex colours at all, or 0 for the number.
+bool exponent_too_long_for_tinyobj(std::string_view word) {
+    const std::size_t e = word.find_first_of("eE");
+    if (e == std::string_view::npos) return false;
+    long long exponent = 0;
+    for (const char c : word.substr(e + 1)) {
+        if (c < '0' || c > '9') continue;  // (its sign)
+        if (exponent > 214748364) return true;
+        exponent = exponent * 10 + (c - '0');
+    }
+    return false;
+}
+
+// The numbers tinyobjloader stored (`got`: positions, colours, normals or texture
+// coordinates, `per_line` a line) against texr's reading of the same lines (`want`, with
+// their lines): the same within rounding (the two parsers may round a digit string to
+// floats an ulp apart), or the first line where they differ is refused.
+void same_numbers(const std::string& path, const std::vector<float>& got, const std::vector<float>& want,
+                  const std::vector<int>& lines, std::size_t per_line, const char* keyword) {
+    for (std::size_t k = 0; k < std::min(got.size(), want.size()); ++k) {
+        const float a = got[k], b = want[k];
+        if (a == b || std::fabs(a - b) <= 1e-5f * std::max(std::fabs(a), std::fabs(b)) || std::fabs(a - b) < 1e-36f) continue;
+        char text[96];
+        std::snprintf(text, sizeof text, "%.9g as %.9g", double(b), std::isnan(a) ? std::fabs(double(a)) : double(a));  // (nan, not -nan)
+        throw InputError(path, lines[k / per_line], "the OBJ parser (tinyobjloader) reads the number " + std::string(text) +
+                                                        " on this " + keyword + " line: write it plainly");
+    }
+    if (got.size() != want.size())
+        throw InputError(path, 0, "the OBJ parser (tinyobjloader) read " + std::to_string(got.size() / per_line) + " " + keyword +
+                                      " lines' numbers where texr read " + std::to_string(want.size() / per_line));
 }
 
 // A face corner's index (1-based, or negative: counting back from the last one defined), or
@@ -244,7 +285,9 @@ ObjLines read_obj_lines(const std::string& path) {
     std::vector<Reference> ahead;  // checked against the whole file's counts at its end
     std::set<std::string> mtl_loaded;  // .mtl names an mtllib line has loaded
     const char* const what[3] = {"vertex", "texture coordinate (vt)", "normal (vn)"};  // by part of a corner
-    const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
+    // Words are split at spaces and tabs, as tinyobjloader splits them (a vertical tab or form
+    // feed is part of a word: '1\v2' is no number).
+    const auto space = [](char c) { return c == ' ' || c == '\t'; };
     ObjLine read;
     // (line_number: the first of the lines a continued line takes, where its errors are told)
     for (int line_number = 1; read_obj_line(in, line_number == 1, read); line_number += read.taken) {
@@ -271,6 +314,8 @@ ObjLines read_obj_lines(const std::string& path) {
                 // tinyobjloader keeps positions, normals and texture coordinates as floats.
                 if (!(std::fabs(*value) <= double(std::numeric_limits<float>::max())))
                     fail(shown_token(std::string(word)) + " is beyond a float's range (about 3.4e38)");
+                if (exponent_too_long_for_tinyobj(word))
+                    fail(shown_token(std::string(word)) + ": an exponent the OBJ parser (tinyobjloader) cannot read; write the number plainly");
                 if (count < 6) values[count] = *value;
             }
             if (keyword == "v" && count < 3) fail("a vertex position (v) needs x, y and z");
@@ -289,6 +334,13 @@ ObjLines read_obj_lines(const std::string& path) {
             if (keyword == "vn" && count != 3) fail("a normal (vn) needs x, y and z");
             if (keyword == "vt" && count < 1) fail("a texture coordinate (vt) needs u (and v)");
             (keyword == "v" ? positions : keyword == "vt" ? uvs : normals) += 1;
+            const auto keep = [&](std::vector<float>& to, int from, int n) {
+                for (int k = from; k < from + n; ++k) to.push_back(float(values[k]));
+            };
+            if (keyword == "v") keep(out.positions, 0, 3), out.position_lines.push_back(line_number);
+            if (keyword == "v" && count == 6) keep(out.colours, 3, 3);
+            if (keyword == "vn") keep(out.normals, 0, 3), out.normal_lines.push_back(line_number);
+            if (keyword == "vt") keep(out.uvs, 0, 2), out.uv_lines.push_back(line_number);  // (values[1]: 0 if not given)
         } else if (keyword == "mtllib") {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
             // `mtllib ../../dev/zero` read until memory ran out).
@@ -357,9 +409,9 @@ ObjLines read_obj_lines(const std::string& path) {
             throw InputError(path, r.line, "face refers to a " + std::string(what[r.part]) + " that does not exist (" + std::to_string(r.index) + ")");
     // Vertex colours on every vertex or on none, as for a scene file's triangles and quads.
     if (colored > 0 && colored < positions)
-        throw InputError(path, first_plain, "a vertex without a colour, where " + std::to_string(colored) + " of the file's " +
-                                                std::to_string(positions) + " vertices (the first at line " + std::to_string(first_colored) +
-                                                ") have one (v x y z r g b): give one on every v line, or none");
+        throw InputError(path, first_plain, "a vertex without a colour: vertex colours (v x y z r g b) are on " + std::to_string(colored) +
+                                                " of the file's " + std::to_string(positions) + " vertices (the first at line " +
+                                                std::to_string(first_colored) + "); give one on every v line, or none");
     out.colors = colored > 0;
     return out;
 }
@@ -575,9 +627,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                                       " corners, not the " + std::to_string(lines.face_corners.size()) + " of " +
                                       std::to_string(corners_read) + " the file's face lines give");
 
-    if (lines.colors && attrib.colors.size() != attrib.vertices.size())
-        throw InputError(path, 0, "tinyobjloader read " + std::to_string(attrib.colors.size() / 3) + " vertex colours for " +
-                                      std::to_string(attrib.vertices.size() / 3) + " vertices");
+    same_numbers(path, attrib.vertices, lines.positions, lines.position_lines, 3, "v");
+    same_numbers(path, attrib.colors, lines.colors ? lines.colours : std::vector<float>(), lines.position_lines, 3, "v");
+    same_numbers(path, attrib.normals, lines.normals, lines.normal_lines, 3, "vn");
+    same_numbers(path, attrib.texcoords, lines.uvs, lines.uv_lines, 2, "vt");
     Mesh mesh;
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
