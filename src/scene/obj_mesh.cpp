@@ -38,9 +38,10 @@ std::string first_line(const std::string& text) {
 }
 
 // What texr reads of an OBJ file itself, line by line, before tinyobjloader parses it:
-//  - every v, vt and vn line must hold numbers only (3 for v and vn, at least one for vt;
-//    v may carry a w, or a colour r g b from 0 to max_color), finite ones; tinyobjloader
-//    reads "x" or a missing coordinate as 0 without a word;
+//  - every v, vt and vn line must hold numbers only (3, 4 (x y z w) or 6 (x y z r g b, the
+//    colour from 0 to max_color) for v, 3 for vn, at least one for vt), finite ones, each
+//    read as tinyobjloader reads it (see v_numbers); tinyobjloader reads "x" or a missing
+//    coordinate as 0 without a word;
 //  - whether the vertices have colours (`colors`): on every v line or on none;
 //  - every face corner must name a position (and any vt or vn) of the file (negative indices
 //    count back from the last one defined above the face); tinyobjloader skips a quad with a
@@ -67,8 +68,8 @@ struct ObjLines {
     // them; for vt u and v, v = 0 where not given), and the line: what tinyobjloader stores is
     // compared with them (same_numbers), as its reading differs in corners (0e500 is NaN to
     // it, and 0 here).
-    std::vector<float> positions, colours, normals, uvs;
-    std::vector<int> position_lines, normal_lines, uv_lines;
+    std::vector<float> v_numbers, v_rgb, vn_numbers, vt_numbers;
+    std::vector<int> v_lines, vn_lines, vt_lines;
 };
 
 // One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
@@ -337,10 +338,10 @@ ObjLines read_obj_lines(const std::string& path) {
             const auto keep = [&](std::vector<float>& to, int from, int n) {
                 for (int k = from; k < from + n; ++k) to.push_back(float(values[k]));
             };
-            if (keyword == "v") keep(out.positions, 0, 3), out.position_lines.push_back(line_number);
-            if (keyword == "v" && count == 6) keep(out.colours, 3, 3);
-            if (keyword == "vn") keep(out.normals, 0, 3), out.normal_lines.push_back(line_number);
-            if (keyword == "vt") keep(out.uvs, 0, 2), out.uv_lines.push_back(line_number);  // (values[1]: 0 if not given)
+            if (keyword == "v") keep(out.v_numbers, 0, 3), out.v_lines.push_back(line_number);
+            if (keyword == "v" && count == 6) keep(out.v_rgb, 3, 3);
+            if (keyword == "vn") keep(out.vn_numbers, 0, 3), out.vn_lines.push_back(line_number);
+            if (keyword == "vt") keep(out.vt_numbers, 0, 2), out.vt_lines.push_back(line_number);  // (values[1]: 0 if not given)
         } else if (keyword == "mtllib") {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
             // `mtllib ../../dev/zero` read until memory ran out).
@@ -627,10 +628,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                                       " corners, not the " + std::to_string(lines.face_corners.size()) + " of " +
                                       std::to_string(corners_read) + " the file's face lines give");
 
-    same_numbers(path, attrib.vertices, lines.positions, lines.position_lines, 3, "v");
-    same_numbers(path, attrib.colors, lines.colors ? lines.colours : std::vector<float>(), lines.position_lines, 3, "v");
-    same_numbers(path, attrib.normals, lines.normals, lines.normal_lines, 3, "vn");
-    same_numbers(path, attrib.texcoords, lines.uvs, lines.uv_lines, 2, "vt");
+    same_numbers(path, attrib.vertices, lines.v_numbers, lines.v_lines, 3, "v");
+    same_numbers(path, attrib.colors, lines.colors ? lines.v_rgb : std::vector<float>(), lines.v_lines, 3, "v");
+    same_numbers(path, attrib.normals, lines.vn_numbers, lines.vn_lines, 3, "vn");
+    same_numbers(path, attrib.texcoords, lines.vt_numbers, lines.vt_lines, 2, "vt");
     Mesh mesh;
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
