@@ -222,3 +222,27 @@ TEST_CASE("clipping: a triangle that all six planes cut keeps all nine corners")
         for (int k = 0; k < 4; ++k) CHECK(from_weights[k] == doctest::Approx(v.position[k]).epsilon(1e-9));
     }
 }
+
+TEST_CASE("clipping: one vertex beyond the near plane gives the quadrilateral worked out by hand, with its weights") {
+    // a = (0, 0, 0, 1), b = (0.5, 0, 0, 1) inside; c = (0, 0.5, -3, 1) beyond the near plane
+    // z + w >= 0. Edge b -> c meets z = -w at t = 1/3: (1/3, 1/6, -1, 1), weights (0, 2/3, 1/3);
+    // edge c -> a at t = 2/3 from c: (0, 1/6, -1, 1), weights (2/3, 0, 1/3). (A single plane
+    // cuts it: an odd number of passes, whose result must still reach the caller's polygon.)
+    ClipPolygon polygon;
+    const ClipResult r = clip_triangle(glm::dvec4(0, 0, 0, 1), glm::dvec4(0.5, 0, 0, 1), glm::dvec4(0, 0.5, -3, 1), guard_band_for(100, 100), polygon);
+    REQUIRE(r == ClipResult::clipped);
+    REQUIRE(polygon.count == 4);
+    const std::pair<glm::dvec4, glm::dvec3> expected[4] = {{{0, 0, 0, 1}, {1, 0, 0}},
+                                                           {{0.5, 0, 0, 1}, {0, 1, 0}},
+                                                           {{1.0 / 3, 1.0 / 6, -1, 1}, {0, 2.0 / 3, 1.0 / 3}},
+                                                           {{0, 1.0 / 6, -1, 1}, {2.0 / 3, 0, 1.0 / 3}}};
+    for (const auto& e : expected) {
+        int found = 0;
+        for (int i = 0; i < polygon.count; ++i)
+            found += glm::all(glm::lessThan(glm::abs(polygon.vertices[std::size_t(i)].position - e.first), glm::dvec4(1e-12))) &&
+                     glm::all(glm::lessThan(glm::abs(polygon.vertices[std::size_t(i)].weights - e.second), glm::dvec3(1e-12)));
+        CAPTURE(e.first.x);
+        CAPTURE(e.first.y);
+        CHECK(found == 1);
+    }
+}

@@ -193,3 +193,48 @@ TEST_CASE("row_range and column_range hold exactly the pixel centres inside the 
         }
     }
 }
+
+TEST_CASE("tiny triangles around a pixel centre cover it exactly as the top-left rule says") {
+    // Every triangle whose corners lie on the 7 x 7 subpixel grid around the centre of pixel
+    // (0, 0) (128, 128 in 1/256 pixel): the centre is covered when it is strictly inside,
+    // or on an edge that is a top edge (horizontal, the rest of the triangle below it) or a
+    // left edge (the triangle to its right), and only by those edges where it lies on several
+    // (a corner). Worked out here on the triangle turned clockwise on screen (y down), where
+    // inside is (b - a) x (p - a) > 0 for every edge a -> b, a top edge runs along +x and a
+    // left edge runs up (-y). Triangles of area 1/2 or 1 subpixel^2 are among them, where the
+    // edge functions' top-left biases decide alone.
+    int covered = 0, checked = 0, wrong = 0;
+    for (int a = 0; a < 49; ++a)
+        for (int b = 0; b < 49; ++b)
+            for (int c = 0; c < 49; ++c) {
+                std::array<SnappedVertex, 3> v = {SnappedVertex{125 + a % 7, 125 + a / 7}, SnappedVertex{125 + b % 7, 125 + b / 7},
+                                                  SnappedVertex{125 + c % 7, 125 + c / 7}};
+                std::array<SnappedVertex, 3> cw = v;
+                const std::int64_t area = side(v[0], v[1], v[2].x, v[2].y);
+                if (area == 0) continue;
+                if (area < 0) std::swap(cw[1], cw[2]);
+                bool inside = true;
+                for (int e = 0; e < 3; ++e) {
+                    const SnappedVertex& p = cw[std::size_t(e)];
+                    const SnappedVertex& q = cw[std::size_t((e + 1) % 3)];
+                    const std::int64_t s = side(p, q, 128, 128);
+                    const bool top = p.y == q.y && q.x > p.x, left = q.y < p.y;
+                    inside = inside && (s > 0 || (s == 0 && (top || left)));
+                }
+                TriangleEdges edges;
+                REQUIRE(triangle_edges(v, edges));
+                int first = 0, last = -1;
+                row_range(edges, 4, first, last);
+                bool drawn = false;
+                if (first <= 0 && last >= 0) {
+                    const Span s = span_for_row(edges, 0, 4);
+                    drawn = s.x0 <= 0 && 0 < s.x1;
+                }
+                wrong += drawn != inside;
+                covered += inside;
+                ++checked;
+            }
+    CHECK(wrong == 0);
+    CHECK(covered > checked / 20);
+    MESSAGE(checked << " triangles, " << covered << " cover the centre");
+}

@@ -1524,3 +1524,130 @@ TEST_CASE("the texels counted for anisotropic filtering are those its probes rea
         CHECK(texels == expected);
     }
 }
+
+// Boundaries that a mutation test of mipmap.cpp, minify.{h,cpp} and lookup.cpp found
+// unchecked: each below fails when its comparison, constant or branch is changed.
+namespace {
+std::shared_ptr<const Image> hdr_image(int w, int h, const std::vector<float>& values) {  // every channel the value
+    std::vector<float> rgba;
+    for (const float t : values)
+        for (int c = 0; c < 4; ++c) rgba.push_back(t);
+    return std::make_shared<const Image>(Image::hdr(w, h, rgba));
+}
+}  // namespace
+
+TEST_CASE("a mip level of 8-bit data rounds each mean half up: bytes k and k + 1 give k + 1") {
+    // A linear (data) 510 x 1 image of pairs (k, k + 1): level 1 is 255 x 1, texel k the mean
+    // k + 1/2 of its pair, stored as a byte rounded half up (lround): k + 1.
+    std::vector<std::uint8_t> bytes(510 * 4);
+    for (int k = 0; k < 255; ++k)
+        for (int c = 0; c < 4; ++c) bytes[std::size_t(2 * k) * 4 + c] = std::uint8_t(k), bytes[std::size_t(2 * k + 1) * 4 + c] = std::uint8_t(k + 1);
+    const Image level1 = downsample(Image::ldr(510, 1, ColorSpace::linear, bytes));
+    REQUIRE(level1.width() == 255);
+    int wrong = 0;
+    for (int k = 0; k < 255; ++k) wrong += std::lround(level1.texel(k, 0).w * 255.0f) != k + 1;
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("footprint axes of 1e308 texels keep their length") {
+    // The vectors are scaled by a power of two before squaring; at 1e308 that power is 2^-1023,
+    // which must not be taken as 0 (2^-1023 is a subnormal double, and the scale is clamped
+    // to 2^-1022): both axes stay 1e308.
+    const FootprintAxes a = footprint_axes(1e308, 0.0, 0.0, 1e308);
+    CHECK(a.major == doctest::Approx(1e308));
+    CHECK(a.minor == doctest::Approx(1e308));
+    const FootprintAxes b = footprint_axes(1.7e308, 0.0, 0.0, 1e300);
+    CHECK(b.major == doctest::Approx(1.7e308));
+    CHECK(b.minor == doctest::Approx(1e300));
+}
+
+TEST_CASE("anisotropic filtering of an infinite footprint reads the 1x1 level, and a footprint of ratio 2 takes 2 probes") {
+    // A 2 x 2 HDR texture [0, 1; 1, 1]: its 1 x 1 level is the mean, 0.75. A footprint
+    // infinitely long is wider than the whole texture: that level, not the base's texel 0.
+    const MipMap mip(hdr_image(2, 2, {0.0f, 1.0f, 1.0f, 1.0f}));
+    Sampler s;
+    s.filter = Filter::anisotropic;
+    int probes = 0;
+    const Color4 far = sample_anisotropic(mip, s, 0.25, 0.25, UVDerivatives{HUGE_VAL, 0.0, 0.0, 1e-3}, probes, nullptr);
+    CHECK(far.x == doctest::Approx(0.75));
+    // Axes 2 and 1 texels turned by small angles: ratio 2 up to rounding (2.0000000000000004
+    // at 0.0008 rad), which is N = ceil(2) = 2 probes, not 3.
+    int not_two = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double a = k * 1e-4, c = std::cos(a), sn = std::sin(a);
+        const FootprintAxes ax = footprint_axes(2.0 * c, 2.0 * sn, -sn, c);
+        not_two += anisotropic_probes(ax.major, ax.minor, 16.0f).count != 2;
+    }
+    CHECK(not_two == 0);
+}
+
+TEST_CASE("trilinear at the ends of the pyramid reads one level, exactly, and blends HDR levels far apart without overflow") {
+    // A 4 x 1 HDR row [-3.4e38, -3.4e38, 3.4e38, 3.4e38] (repeat): at lambda 0 and u = 1/8
+    // (texel 0's centre) trilinear is level 0's bilinear there, -3.4e38 (blending in level
+    // 1 with a weight of 0 would still make 0 x inf = NaN).
+    const MipMap mip(hdr_image(4, 1, {-3.4e38f, -3.4e38f, 3.4e38f, 3.4e38f}));
+    Sampler s;
+    s.filter = Filter::trilinear;
+    CHECK(sample_trilinear(mip, s, 0.125, 0.5, 0.0).x == -3.4e38f);
+    // Between levels 0 and 1 at lambda 0.5: level 0 gives -3.4e38 there, level 1 (2 x 1:
+    // [-3.4e38, 3.4e38]) at x = 0.25 - 0.5 = -0.25 (repeat: between texel 1 and texel 0,
+    // 0.75 of texel 0) gives 0.75 (-3.4e38) + 0.25 (3.4e38) = -1.7e38; the blend half way,
+    // -2.55e38, is finite (b - a alone is not).
+    const Color4 mid = sample_trilinear(mip, s, 0.125, 0.5, 0.5);
+    CHECK(std::isfinite(mid.x));
+    CHECK(mid.x == doctest::Approx(-2.55e38).epsilon(1e-5));
+#if defined(__SSE2__)
+    // The lanes' choice of levels: a lambda at the last level (or beyond, or at 0) is an end
+    // of the pyramid, l0 = -1, as trilinear_over reads it (one level alone).
+    for (const double lambda : {3.0, 0.0, 3.5}) {
+        int l0 = 7;
+        float fraction = 0.0f;
+        trilinear_levels_lanes(&lambda, 1, 3, &l0, &fraction);
+        CAPTURE(lambda);
+        CHECK(l0 == -1);
+    }
+    const double two[2] = {3.0, 2.5};
+    int l0s[2] = {7, 7};
+    float fractions[2];
+    trilinear_levels_lanes(two, 2, 3, l0s, fractions);
+    CHECK(l0s[0] == -1);
+    CHECK(l0s[1] == 2);
+    CHECK(fractions[1] == 0.5f);
+#endif
+}
+
+TEST_CASE("bicubic lookups count the 16 texels they read") {
+    Texture t;
+    t.image = std::make_shared<Image>(constant_ldr(8, 8, 90));
+    t.sampler.filter = Filter::bicubic;
+    t.mipmap = std::make_shared<MipMap>(t.image);
+    std::uint64_t texels = 0;
+    lookup_footprint(t, 0.3, 0.6, UVDerivatives{0.01, 0.0, 0.0, 0.01}, texels);
+    CHECK(texels == 16);
+}
+
+TEST_CASE("anisotropic probes beyond 1e15 texels read texel 0 on the short path, as on the general path") {
+    // An 8-bit 4 x 4 texture whose columns are [0, 85, 170, 255] (repeat, power-of-two sides:
+    // the short path where the probes stay within its limit). Beyond 1e15 texels a
+    // coordinate carries no fraction and reads texel 0 (wrap.h), on either path.
+    std::vector<std::uint8_t> bytes;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            for (int c = 0; c < 4; ++c) bytes.push_back(c == 3 ? 255 : std::uint8_t(85 * i));
+    const MipMap mip(std::make_shared<const Image>(Image::ldr(4, 4, ColorSpace::linear, bytes)));
+    Sampler s;
+    s.filter = Filter::anisotropic;
+    int probes = 0;
+    // One probe (a tiny footprint) at u 4 = -(1e15 - 0.25): its bilinear x = -1e15 - 0.25.
+    const Color4 one = sample_anisotropic(mip, s, -249999999999999.9375, 0.375, UVDerivatives{1e-4, 0.0, 0.0, 1e-4}, probes, nullptr);
+    CHECK(probes == 1);
+    CHECK(one.x == 0.0f);
+    // 16 probes along u over 16 texels (lambda 0) around u 4 = -(1e15 - 4): probe k lies at
+    // u 4 = -(1e15 - 4) + 16 ((k + 1/2) / 16 - 1/2), its bilinear x = that - 1/2 =
+    // -1e15 + k - 4. Probes k = 0..4 (x <= -1e15) read 0; k = 5..15 lie on whole texels
+    // x = -1e15 + j, j = 1..11, which read texel j mod 4 (1e15 is a multiple of 4): 85, 170,
+    // 255, 0 and so on, 3 x 510 = 1530 in all; 1530 / 16 / 255 = 0.375 (linear data).
+    const Color4 sixteen = sample_anisotropic(mip, s, -249999999999999.0, 0.375, UVDerivatives{4.0, 0.0, 0.0, 0.25}, probes, nullptr);
+    CHECK(probes == 16);
+    CHECK(sixteen.x == doctest::Approx(0.375).epsilon(1e-6));
+}

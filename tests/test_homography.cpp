@@ -99,8 +99,8 @@ TEST_CASE("at each vertex (u, v) equals that vertex's UV") {
         const TextureHomography h = texture_homography(screen, t.inv_w(), t.uv);
         for (int i = 0; i < 3; ++i) {
             const glm::dvec2 uv = h.uv_at(screen[i].x, screen[i].y);
-            CHECK(uv.x == doctest::Approx(t.uv[i].x).epsilon(1e-9).scale(1.0));
-            CHECK(uv.y == doctest::Approx(t.uv[i].y).epsilon(1e-9).scale(1.0));
+            CHECK(uv.x == doctest::Approx(t.uv[i].x).epsilon(1e-9));
+            CHECK(uv.y == doctest::Approx(t.uv[i].y).epsilon(1e-9));
         }
     }
 }
@@ -158,11 +158,8 @@ TEST_CASE("the forward map exists for UVs of any scale that are not collinear, a
     // ("the UVs are collinear", found by a review). M (u_i, v_i, 1) must be a multiple of
     // (x_i, y_i, 1) at each vertex, whatever the scale; collinear UVs at that scale still
     // have none.
-    const std::array<glm::dvec2, 3> screen{glm::dvec2(10, 10), glm::dvec2(200, 30), glm::dvec2(60, 180)};
-    const std::array<double, 3> inv_w{1.0, 0.25, 0.5};
-    for (double scale : {1e-300, 1e-5, 1.0, 1e7, 1e150, 1e300}) {
-        CAPTURE(scale);
-        const std::array<glm::dvec2, 3> uv{glm::dvec2(-1, 0) * scale, glm::dvec2(1, 0.5) * scale, glm::dvec2(0, 1) * scale};
+    using Corners = std::array<glm::dvec2, 3>;
+    const auto maps_uvs_to_corners = [](const Corners& screen, const std::array<double, 3>& inv_w, const Corners& uv) {
         const auto forward = texture_homography(screen, inv_w, uv).forward();
         REQUIRE(forward.has_value());
         for (int i = 0; i < 3; ++i) {
@@ -170,8 +167,21 @@ TEST_CASE("the forward map exists for UVs of any scale that are not collinear, a
             CHECK(p.x / p.z == doctest::Approx(screen[std::size_t(i)].x).epsilon(1e-9));
             CHECK(p.y / p.z == doctest::Approx(screen[std::size_t(i)].y).epsilon(1e-9));
         }
-        const std::array<glm::dvec2, 3> collinear{glm::dvec2(0, 0), glm::dvec2(1, 1) * scale, glm::dvec2(3, 3) * scale};
+    };
+    const Corners screen{glm::dvec2(10, 10), glm::dvec2(200, 30), glm::dvec2(60, 180)};
+    const std::array<double, 3> inv_w{1.0, 0.25, 0.5};
+    for (double scale : {1e-300, 1e-5, 1.0, 1e7, 1e150, 1e300}) {
+        CAPTURE(scale);
+        maps_uvs_to_corners(screen, inv_w, {glm::dvec2(-1, 0) * scale, glm::dvec2(1, 0.5) * scale, glm::dvec2(0, 1) * scale});
+        const Corners collinear{glm::dvec2(0, 0), glm::dvec2(1, 1) * scale, glm::dvec2(3, 3) * scale};
         CHECK_FALSE(texture_homography(screen, inv_w, collinear).forward().has_value());
+        // UVs all below 0: rows of M^-1 whose entries are all negative or 0 (their scale is
+        // taken from their magnitudes, not their signed values, which left it 0 and no map);
+        // on a right triangle at w = 1, u' = -1 - x / 10 and v' = -1 - y / 10 (at scale 1)
+        // have no positive entry at all: rows (-0.1, 0, -1) and (0, -0.1, -1).
+        const Corners negative{glm::dvec2(-1, -1) * scale, glm::dvec2(-2, -1) * scale, glm::dvec2(-1, -2) * scale};
+        maps_uvs_to_corners(screen, inv_w, negative);
+        maps_uvs_to_corners({glm::dvec2(0, 0), glm::dvec2(10, 0), glm::dvec2(0, 10)}, {1.0, 1.0, 1.0}, negative);
     }
 }
 

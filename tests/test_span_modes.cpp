@@ -211,3 +211,51 @@ TEST_CASE("the adaptive mode steps a span whose error bound overflows, instead o
     }
     CHECK(worst < 1e-12);
 }
+
+TEST_CASE("affine8 divides at every 8th pixel and the span's end, where it is exact") {
+    // 17 pixels: exact values at pixels 0, 8 and 16 (3 divides), lines between them.
+    TextureHomography h;
+    h.u_prime = {0.01, 0.0, 0.1}, h.v_prime = {0.0, 0.01, 0.1}, h.q = {0.001, 0.0, 1.0};
+    SpanTexturing t;
+    t.h = &h;
+    double u[17], v[17], eu[17], ev[17];
+    CoordinateBound b, eb;
+    CHECK(span_texture_coordinates(SpanMode::affine8, t, 0, 0, 17, u, v, b) == 3);
+    span_texture_coordinates(SpanMode::exact, t, 0, 0, 17, eu, ev, eb);
+    for (const int k : {0, 8, 16}) {
+        CAPTURE(k);
+        CHECK(u[k] == eu[k]);
+        CHECK(v[k] == ev[k]);
+    }
+    CHECK(u[4] != eu[4]);  // (between them, a line: not the exact curve)
+}
+
+TEST_CASE("the adaptive mode keeps its bound where u' and q change in opposite directions along the row") {
+    // u = (1.005 - 0.01 x') / (0.995 + 0.01 x'), x' = x + 1/2: u' falls while q grows. The
+    // bound's curvature K = du'/dx q - u' dq/dx must take the difference of the two terms;
+    // their sum is 0 here at x' = 0 and would allow the whole span as one line (43.9 texels
+    // off at pixel 41), with v' = 0 (v adds no curvature of its own to hide it). Then every
+    // sign of du'/dx, dv'/dx (or v' = 0) and dq/dx, the walk going either way.
+    for (const double su : {1.0, -1.0})
+        for (const double sv : {1.0, 0.0, -1.0})
+            for (const double sq : {1.0, -1.0}) {
+                TextureHomography h;
+                h.u_prime = {-0.01 * su, 0.0, 1.005}, h.v_prime = {0.003 * sv, 0.0, sv == 0.0 ? 0.0 : 0.4};
+                h.q = {0.01 * sq, 0.0, 0.995 + (sq < 0 ? 1.2 : 0.0)};
+                SpanTexturing t;
+                t.h = &h;
+                t.width = t.height = 256;
+                std::vector<double> u(101), v(101), eu(101), ev(101);
+                CoordinateBound b, eb;
+                span_texture_coordinates(SpanMode::adaptive, t, 0, 0, 101, u.data(), v.data(), b);
+                span_texture_coordinates(SpanMode::exact, t, 0, 0, 101, eu.data(), ev.data(), eb);
+                double worst = 0.0;
+                for (int k = 0; k < 101; ++k)
+                    worst = std::max({worst, std::fabs(u[std::size_t(k)] - eu[std::size_t(k)]) * 256.0,
+                                      std::fabs(v[std::size_t(k)] - ev[std::size_t(k)]) * 256.0});
+                CAPTURE(su);
+                CAPTURE(sv);
+                CAPTURE(sq);
+                CHECK(worst <= t.tolerance * (1.0 + 1e-9));
+            }
+}

@@ -494,3 +494,95 @@ TEST_CASE("the short path is taken only for repeat on both axes and power-of-two
             }
     }
 }
+
+// Boundaries that a mutation test of wrap.h and reconstruct.{h,cpp} found unchecked: each
+// below fails when its comparison is loosened or tightened by one.
+namespace {
+Image hdr_row(const std::vector<float>& values) {  // a 1-row HDR image, every channel the value
+    std::vector<float> rgba;
+    for (const float t : values)
+        for (int c = 0; c < 4; ++c) rgba.push_back(t);
+    return Image::hdr(int(values.size()), 1, rgba);
+}
+}  // namespace
+
+TEST_CASE("a lattice coordinate of whole periods wraps to texel 0, whichever way its quotient rounds") {
+    // x = k n texels is k whole periods from texel 0: whole 0, fraction 0. The quotient
+    // x (1/n) is worked out in double and may round one below k; the remainder must still
+    // land in [0, n) (a reduced value equal to the period was kept: texel n, past the row).
+    for (const int n : {3, 7, 49, 50, 97, 1000, 16383})
+        for (long long k = -2000; k <= 2000; k += 7) {
+            const LatticePoint p = split_lattice(Wrap::repeat, double(k * n), n);
+            CAPTURE(n);
+            CAPTURE(k);
+            REQUIRE(p.whole == 0);
+            REQUIRE(p.fraction == 0.0);
+        }
+    CHECK(split_lattice(Wrap::repeat, 49.0, 49).whole == 0);
+    // Through the samplers: node registration, repeat, u = 1 is the node texel 49 shares with
+    // the next period's texel 0, read as texel 0 (0); 50 texels whose values are their index.
+    std::vector<float> ramp;
+    for (int i = 0; i < 50; ++i) ramp.push_back(float(i));
+    const Image image = hdr_row(ramp);
+    Sampler node;
+    node.registration = Registration::node;
+    CHECK(sample_nearest(image, node, 1.0, 0.5).x == 0.0f);
+    CHECK(sample_bilinear(image, node, 1.0, 0.5).x == 0.0f);
+    // Cell registration, 49 texels: u = 1.02 is u = 0.02 a period on, x = 0.98 - 0.5 = 0.48,
+    // between texels 0 and 1.
+    ramp.pop_back();
+    const Image odd = hdr_row(ramp);
+    CHECK(sample_bilinear(odd, Sampler{}, 1.02, 0.5).x == doctest::Approx(0.48).epsilon(1e-6));
+    CHECK(sample_bilinear(odd, Sampler{}, 0.02, 0.5).x == doctest::Approx(0.48).epsilon(1e-6));
+}
+
+TEST_CASE("repeat and mirror coordinates beyond 1e15 texels read texel 0, on the general and the short path") {
+    // The documented rule (wrap.h): there a double holds no fraction of a texel any more. A
+    // 4-texel row [0, 1, 2, 3] (HDR: the general path) at x = u 4 = 2e15 + 1 reads 0, not
+    // texel 1; the 8-bit row [0, 85, 170, 255] (the short path of repeat on powers of two)
+    // at x = -1e15 - 0.25 reads what the general path reads there: texel 0.
+    const Image hdr = hdr_row({0.0f, 1.0f, 2.0f, 3.0f});
+    CHECK(sample_nearest(hdr, Sampler{}, 500000000000000.25, 0.5).x == 0.0f);
+    CHECK(sample_bilinear(hdr, Sampler{}, 500000000000000.25, 0.5).x == 0.0f);
+    const std::vector<std::uint8_t> bytes = {0, 0, 0, 255, 85, 85, 85, 255, 170, 170, 170, 255, 255, 255, 255, 255};
+    const Image ldr = Image::ldr(4, 1, ColorSpace::linear, bytes);
+    const double u = -249999999999999.9375;  // u 4 = -(1e15 - 0.25); bilinear's x = u 4 - 1/2
+    CHECK(sample_bilinear(ldr, Sampler{}, u, 0.5).x == 0.0f);
+    CHECK(reconstruct_detail::sample_bilinear_general(ldr, Sampler{}, u, 0.5).x == 0.0f);
+}
+
+TEST_CASE("the bicubic kernel is 0 from two texels on, so a texel two away adds nothing, however large") {
+    // k(x) = 0 for |x| >= 2 by definition; in floats the second piece's polynomial at x = 2
+    // is not exactly 0 (1.6e-7 for B = C = 1/3), so x = 2 must take the outer branch.
+    for (const std::pair<float, float>& bc : {std::pair{0.0f, 0.5f}, {1.0f, 0.0f}, {1.0f / 3.0f, 1.0f / 3.0f}, {0.3f, 0.7f}}) {
+        CAPTURE(bc.first);
+        CAPTURE(bc.second);
+        CHECK(mitchell_netravali(2.0f, bc.first, bc.second) == 0.0f);
+        CHECK(mitchell_netravali(-2.0f, bc.first, bc.second) == 0.0f);
+        CHECK(mitchell_netravali(2.5f, bc.first, bc.second) == 0.0f);
+    }
+    // At texel 2's centre of [1, 1, 1, 1, 3e38] the taps are texels 1..4 at distances 1, 0,
+    // 1, 2: the weights at 1, 0, 1 sum to 1 (k(0) + 2 k(1) = 1), the one at 2 is 0: exactly 1.
+    const Image image = hdr_row({1.0f, 1.0f, 1.0f, 1.0f, 3e38f});
+    Sampler s;
+    s.filter = Filter::bicubic, s.wrap_u = s.wrap_v = Wrap::clamp, s.cubic_b = s.cubic_c = 1.0f / 3.0f;
+    CHECK(sample_bicubic(image, s, 0.5, 0.5).x == doctest::Approx(1.0f));
+}
+
+TEST_CASE("bilinear between HDR texels more than the float maximum apart stays between them") {
+    // -3.4e38 beside 3.4e38: their difference overflows a float (to inf, and 0 x inf is NaN),
+    // while the blend of two finite values is finite. At a texel's centre the blend is that
+    // texel; halfway it is their mean, 0.
+    std::vector<float> rgba;
+    for (const float t : {-3.4e38f, 3.4e38f, 3.4e38f, 3.4e38f})
+        for (int c = 0; c < 4; ++c) rgba.push_back(t);
+    const Image image = Image::hdr(2, 2, rgba);
+    Sampler s;
+    s.wrap_u = s.wrap_v = Wrap::clamp;
+    CHECK(sample_bilinear(image, s, 0.25, 0.25).x == -3.4e38f);
+    CHECK(sample_bilinear(image, s, 0.5, 0.25).x == doctest::Approx(0.0).epsilon(1e-6));  // (mean of -3.4e38 and 3.4e38)
+    CHECK(sample_bilinear(image, s, 0.75, 0.75).x == 3.4e38f);
+    const Color4 quarter = sample_bilinear(image, s, 0.375, 0.25);  // x = 0.25: 0.75 (-3.4e38) + 0.25 (3.4e38)
+    CHECK(std::isfinite(quarter.x));
+    CHECK(quarter.x == doctest::Approx(-1.7e38).epsilon(1e-6));
+}

@@ -147,11 +147,17 @@ namespace reconstruct_detail {
     if (!image.is_hdr() && (a.i0 | a.i1 | b.i0 | b.i1) >= 0)  // no border texel: the 8-bit fast path
         return image.blend_ldr(a.i0, a.i1, b.i0, b.i1, a.f, b.f);
     // Successive linear interpolations: along v in columns i0 and i1, then along u.
-    const Color4 column0 = texel_or_border(image, sampler, a.i0, b.i0) +
-                           b.f * (texel_or_border(image, sampler, a.i0, b.i1) - texel_or_border(image, sampler, a.i0, b.i0));
-    const Color4 column1 = texel_or_border(image, sampler, a.i1, b.i0) +
-                           b.f * (texel_or_border(image, sampler, a.i1, b.i1) - texel_or_border(image, sampler, a.i1, b.i0));
-    return column0 + a.f * (column1 - column0);
+    const Color4 t00 = texel_or_border(image, sampler, a.i0, b.i0), t01 = texel_or_border(image, sampler, a.i0, b.i1);
+    const Color4 t10 = texel_or_border(image, sampler, a.i1, b.i0), t11 = texel_or_border(image, sampler, a.i1, b.i1);
+    const Color4 column0 = t00 + b.f * (t01 - t00), column1 = t10 + b.f * (t11 - t10);
+    const Color4 blend = column0 + a.f * (column1 - column0);
+    if (all_finite(blend)) return blend;
+    // HDR texels more than the float maximum apart (-3e38 beside 3e38) overflowed a
+    // difference, even where the weight is 0: the same steps in double, whose result lies
+    // between the texels (a texel that is itself inf or NaN still gives inf or NaN).
+    const auto lerp = [](const glm::dvec4& p, const glm::dvec4& q, double f) { return p + f * (q - p); };
+    const glm::dvec4 c0 = lerp(glm::dvec4(t00), glm::dvec4(t01), double(b.f)), c1 = lerp(glm::dvec4(t10), glm::dvec4(t11), double(b.f));
+    return Color4(lerp(c0, c1, double(a.f)));
 }
 
 }  // namespace reconstruct_detail
