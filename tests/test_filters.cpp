@@ -1582,20 +1582,20 @@ TEST_CASE("anisotropic filtering of an infinite footprint reads the 1x1 level, a
 }
 
 TEST_CASE("trilinear at the ends of the pyramid reads one level, exactly, and blends HDR levels far apart without overflow") {
-    // A 4 x 1 HDR row [-3.4e38, -3.4e38, 3.4e38, 3.4e38] (repeat): at lambda 0 and u = 1/8
-    // (texel 0's centre) trilinear is level 0's bilinear there, -3.4e38 (blending in level
-    // 1 with a weight of 0 would still make 0 x inf = NaN).
-    const MipMap mip(hdr_image(4, 1, {-3.4e38f, -3.4e38f, 3.4e38f, 3.4e38f}));
+    // A 4 x 1 HDR row [-3.4e38, 3.4e38, 3.4e38, 3.4e38] (repeat); level 1 is [0, 3.4e38].
+    // At u = 1/8, level 0's bilinear x = 0 is texel 0, -3.4e38; level 1's x = -1/4 lies
+    // between its texel 1 (a period back) and texel 0, 0.75 of the way to texel 0:
+    // 0.25 (3.4e38) + 0.75 (0) = 8.5e37. Their difference, 4.25e38, overflows a float.
+    // At lambda 0 trilinear is level 0 alone, exactly -3.4e38 (blending in level 1 with a
+    // weight of 0 would make 0 x inf = NaN); at lambda 1/2 it is
+    // -3.4e38 + (4.25e38) / 2 = -1.275e38 (the float blend gave inf).
+    const MipMap mip(hdr_image(4, 1, {-3.4e38f, 3.4e38f, 3.4e38f, 3.4e38f}));
     Sampler s;
     s.filter = Filter::trilinear;
     CHECK(sample_trilinear(mip, s, 0.125, 0.5, 0.0).x == -3.4e38f);
-    // Between levels 0 and 1 at lambda 0.5: level 0 gives -3.4e38 there, level 1 (2 x 1:
-    // [-3.4e38, 3.4e38]) at x = 0.25 - 0.5 = -0.25 (repeat: between texel 1 and texel 0,
-    // 0.75 of texel 0) gives 0.75 (-3.4e38) + 0.25 (3.4e38) = -1.7e38; the blend half way,
-    // -2.55e38, is finite (b - a alone is not).
     const Color4 mid = sample_trilinear(mip, s, 0.125, 0.5, 0.5);
     CHECK(std::isfinite(mid.x));
-    CHECK(mid.x == doctest::Approx(-2.55e38).epsilon(1e-5));
+    CHECK(mid.x == doctest::Approx(-1.275e38).epsilon(1e-6));
 #if defined(__SSE2__)
     // The lanes' choice of levels: a lambda at the last level (or beyond, or at 0) is an end
     // of the pyramid, l0 = -1, as trilinear_over reads it (one level alone).
@@ -1606,13 +1606,19 @@ TEST_CASE("trilinear at the ends of the pyramid reads one level, exactly, and bl
         CAPTURE(lambda);
         CHECK(l0 == -1);
     }
-    const double two[2] = {3.0, 2.5};
-    int l0s[2] = {7, 7};
-    float fractions[2];
-    trilinear_levels_lanes(two, 2, 3, l0s, fractions);
-    CHECK(l0s[0] == -1);
-    CHECK(l0s[1] == 2);
-    CHECK(fractions[1] == 0.5f);
+    // Two at a time (SSE2's lanes): the ends in either lane.
+    const double pairs[3][2] = {{3.0, 2.5}, {2.5, 0.0}, {0.0, 3.5}};
+    const int expected[3][2] = {{-1, 2}, {2, -1}, {-1, -1}};
+    for (int p = 0; p < 3; ++p) {
+        int l0s[2] = {7, 7};
+        float fractions[2];
+        trilinear_levels_lanes(pairs[p], 2, 3, l0s, fractions);
+        CAPTURE(p);
+        CHECK(l0s[0] == expected[p][0]);
+        CHECK(l0s[1] == expected[p][1]);
+        for (int k = 0; k < 2; ++k)
+            if (l0s[k] == 2) CHECK(fractions[k] == 0.5f);
+    }
 #endif
 }
 
@@ -1650,4 +1656,57 @@ TEST_CASE("anisotropic probes beyond 1e15 texels read texel 0 on the short path,
     const Color4 sixteen = sample_anisotropic(mip, s, -249999999999999.0, 0.375, UVDerivatives{4.0, 0.0, 0.0, 0.25}, probes, nullptr);
     CHECK(probes == 16);
     CHECK(sixteen.x == doctest::Approx(0.375).epsilon(1e-6));
+}
+
+TEST_CASE("every filter of an HDR image with texels near the float maximum returns a finite value between the texels") {
+    // Each filter's value is a weighted mean of texels (and the border colour) with weights
+    // that are not negative (bicubic as the B-spline): finite, and between the smallest and
+    // largest of them, whatever the float sums of such texels overflow to on the way
+    // (-3.4e38 beside 3.4e38, or texels at the float maximum itself). Random 1..6 x 1..6
+    // images of such texels, every wrap pair and registration, random footprints.
+    std::mt19937_64 rng(31);
+    const auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+    const auto pick = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    const Wrap wraps[4] = {Wrap::repeat, Wrap::mirror, Wrap::clamp, Wrap::border};
+    int wrong[8] = {}, lookups = 0;
+    for (int round = 0; round < 6000; ++round) {
+        const float big = round % 2 == 0 ? 3.4e38f : std::numeric_limits<float>::max();
+        const float values[5] = {-big, big, 0.0f, big / 2, -big / 2};
+        Sampler s;
+        s.registration = pick(0, 1) ? Registration::node : Registration::cell;
+        const int w = std::max(pick(1, 6), s.registration == Registration::node ? 2 : 1);
+        const int h = std::max(pick(1, 6), s.registration == Registration::node ? 2 : 1);
+        s.wrap_u = wraps[pick(0, 3)], s.wrap_v = wraps[pick(0, 3)];
+        const float border = values[pick(0, 4)];
+        s.border = Color4(border, border, border, 1.0f);
+        s.cubic_b = 1.0f, s.cubic_c = 0.0f;  // the B-spline: no negative weights
+        std::vector<float> texels;
+        float lo = border, hi = border;
+        for (int k = 0; k < w * h; ++k) {
+            const float t = pick(0, 4) == 0 ? values[pick(2, 4)] : values[pick(0, 1)];
+            lo = std::min(lo, t), hi = std::max(hi, t);
+            texels.push_back(t);
+        }
+        Texture tex;
+        tex.image = hdr_image(w, h, texels);
+        tex.mipmap = std::make_shared<MipMap>(tex.image, s);
+        for (int f = 0; f < 8; ++f) {
+            tex.sampler = s;
+            tex.sampler.filter = Filter(f);
+            tex.sampler.max_anisotropy = float(pick(1, 16));
+            const double scale = std::pow(2.0, uniform(-4.0, 3.0)) / std::max(w, h);
+            const UVDerivatives d{scale * uniform(-1, 1), scale * uniform(-1, 1), scale * uniform(-1, 1), scale * uniform(-1, 1)};
+            std::uint64_t read = 0;
+            const float x = lookup(tex, uniform(-0.5, 1.5), uniform(-0.5, 1.5), d, read).x;
+            const float slack = 1e-6f;
+            wrong[f] += !(std::isfinite(x) && x >= lo - slack * std::fabs(lo) && x <= hi + slack * std::fabs(hi));
+            ++lookups;
+        }
+    }
+    for (int f = 0; f < 8; ++f) {
+        const std::string name = filter_name(Filter(f));
+        CAPTURE(name);
+        CHECK(wrong[f] == 0);
+    }
+    MESSAGE(lookups << " lookups");
 }

@@ -233,7 +233,7 @@ TEST_CASE("affine8 divides at every 8th pixel and the span's end, where it is ex
 TEST_CASE("the adaptive mode keeps its bound where u' and q change in opposite directions along the row") {
     // u = (1.005 - 0.01 x') / (0.995 + 0.01 x'), x' = x + 1/2: u' falls while q grows. The
     // bound's curvature K = du'/dx q - u' dq/dx must take the difference of the two terms;
-    // their sum is 0 here at x' = 0 and would allow the whole span as one line (43.9 texels
+    // their sum is 0 here at the first pixel's centre, x' = 1/2, and would allow the whole span as one line (43.9 texels
     // off at pixel 41), with v' = 0 (v adds no curvature of its own to hide it). Then every
     // sign of du'/dx, dv'/dx (or v' = 0) and dq/dx, the walk going either way.
     for (const double su : {1.0, -1.0})

@@ -544,6 +544,10 @@ TEST_CASE("repeat and mirror coordinates beyond 1e15 texels read texel 0, on the
     const Image hdr = hdr_row({0.0f, 1.0f, 2.0f, 3.0f});
     CHECK(sample_nearest(hdr, Sampler{}, 500000000000000.25, 0.5).x == 0.0f);
     CHECK(sample_bilinear(hdr, Sampler{}, 500000000000000.25, 0.5).x == 0.0f);
+    Sampler mirror;
+    mirror.wrap_u = Wrap::mirror;  // (x = 2e15 + 1 is in an even period, 2e15 + 3 too: texels 1 and 3 without the rule)
+    CHECK(sample_nearest(hdr, mirror, 500000000000000.25, 0.5).x == 0.0f);
+    CHECK(sample_nearest(hdr, mirror, 500000000000000.75, 0.5).x == 0.0f);
     const std::vector<std::uint8_t> bytes = {0, 0, 0, 255, 85, 85, 85, 255, 170, 170, 170, 255, 255, 255, 255, 255};
     const Image ldr = Image::ldr(4, 1, ColorSpace::linear, bytes);
     const double u = -249999999999999.9375;  // u 4 = -(1e15 - 0.25); bilinear's x = u 4 - 1/2

@@ -170,6 +170,9 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     using TexelWeight = std::conditional_t<Wide, double, float>;
     TexelSum texel_sum(0.0f);
     float weight_sum = 0.0f;
+    // Wide: the weights of texel_sum in double too. (Their float sum, rounded, could leave the
+    // average of texels at the float maximum above it, and the average read as inf.)
+    double wide_weight_sum = 0.0;
 #if defined(__SSE__)
     __m128 sum_lanes = _mm_setzero_ps();  // the sum from the copy (each lane the same product and sum as Color4's)
 #endif
@@ -212,6 +215,7 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
                 const int column = int(place_list[i] & 0xffffffff) - 1, row = int(place_list[i] >> 32) - 1;
                 partial += TexelWeight(weight) * TexelSum((column < 0 || row < 0) ? s.border : image.texel(column, row));
                 listed_weight += weight;
+                if constexpr (Wide) wide_weight_sum += double(weight);
             }
             texel_sum = partial;
         }
@@ -319,7 +323,7 @@ Color4 ewa_over(const Image& image, const Sampler& s, const EwaEllipse& e, int& 
     }
 #endif
     if (weight_sum <= 0.0f) return fetch(image, s, int(std::lround(cs)), int(std::lround(ct)));
-    if (!by_offset) return Color4(texel_sum / TexelWeight(weight_sum));
+    if (!by_offset) return Color4(texel_sum / (Wide ? TexelWeight(wide_weight_sum) : TexelWeight(weight_sum)));
     return sum / weight_sum;
 }
 
@@ -524,7 +528,11 @@ Color4 sample_ewa(const MipMap& mip, const Sampler& s, double u, double v, const
     const EwaEllipse e1 = ellipse_at_level(second, s, u, v, f.d1u, f.d1v, f.d2u, f.d2v);
     const Color4 a = ewa_average(first, s, e0, texels);
     const Color4 b = ewa_average(second, s, e1, texels);
-    return a + t * (b - a);
+    const Color4 blend = a + t * (b - a);
+    if (all_finite(blend) || !mip.base().is_hdr()) return blend;
+    // HDR levels more than the float maximum apart (-3e38 and 3e38) overflowed b - a: the
+    // blend in double.
+    return Color4(glm::dvec4(a) + double(t) * (glm::dvec4(b) - glm::dvec4(a)));
 }
 
 EwaSum ewa_sum_on_level(const MipMap& mip, const Sampler& s, double u, double v, const UVDerivatives& d, int level) {

@@ -62,13 +62,17 @@ Color4 sample_bicubic(const Image& image, const Sampler& sampler, double u, doub
     if (!all_finite(sum)) {
         // Overflowed in float: HDR texels near 3.4e38 times weights above 1 (B and C far from
         // [0, 1]) made inf - inf. The same sum in double; a true value beyond float stays inf.
+        // Each axis's weights sum to 1, but not quite in floats: the sum is divided by theirs,
+        // or texels at the float maximum itself came out above it (inf).
         glm::dvec4 total(0.0);
         for (int b = 0; b < 4; ++b) {
             glm::dvec4 row(0.0);
             for (int a = 0; a < 4; ++a) row += double(wu[a]) * glm::dvec4(reconstruct_detail::texel_or_border(image, sampler, iu[a], iv[b]));
             total += double(wv[b]) * row;
         }
-        sum = Color4(total);
+        double weight_u = 0.0, weight_v = 0.0;
+        for (int k = 0; k < 4; ++k) weight_u += double(wu[k]), weight_v += double(wv[k]);
+        sum = Color4(total / (weight_u * weight_v));
     }
     if (sampler.clamp_overshoot) {
         const Color4 t00 = reconstruct_detail::texel_or_border(image, sampler, iu[1], iv[1]), t10 = reconstruct_detail::texel_or_border(image, sampler, iu[2], iv[1]);
