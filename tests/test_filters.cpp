@@ -1710,3 +1710,22 @@ TEST_CASE("every filter of an HDR image with texels near the float maximum retur
     }
     MESSAGE(lookups << " lookups");
 }
+
+TEST_CASE("EWA with clamp far outside the image reads the nearer edge, and a footprint as wide as the pyramid reads its top level") {
+    // A 2 x 2 HDR texture whose left column is 0.25 and right column 0.75, clamped: a lookup
+    // 1e15 texture widths to the right reads the right column, to the left the left one.
+    const MipMap columns(hdr_image(2, 2, {0.25f, 0.75f, 0.25f, 0.75f}));
+    Sampler clamp;
+    clamp.filter = Filter::ewa, clamp.wrap_u = clamp.wrap_v = Wrap::clamp;
+    int texels = 0;
+    const UVDerivatives small{0.5, 0.0, 0.0, 0.5};
+    CHECK(sample_ewa(columns, clamp, 1e15, 0.5, small, texels).x == doctest::Approx(0.75));
+    CHECK(sample_ewa(columns, clamp, -1e15, 0.5, small, texels).x == doctest::Approx(0.25));
+    // A 2 x 2 texture of 1s with a border of 0: a footprint of 2 texels (d = 1 texture width
+    // a pixel) has lambda = log2(2) = 1, the last level, which is read as it is (bilinear at
+    // its one texel's centre: 1), not averaged over an ellipse that takes in the border.
+    const MipMap ones(hdr_image(2, 2, {1.0f, 1.0f, 1.0f, 1.0f}));
+    Sampler border;
+    border.filter = Filter::ewa, border.wrap_u = border.wrap_v = Wrap::border;
+    CHECK(sample_ewa(ones, border, 0.5, 0.5, UVDerivatives{1.0, 0.0, 0.0, 1.0}, texels).x == 1.0f);
+}

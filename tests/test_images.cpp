@@ -476,3 +476,33 @@ TEST_CASE("decoded copies are made only for the textures that a blending filter 
     CHECK(pixels == 32u * 32u);
     CHECK(rows.textures[0].image->decoded_bytes() == 0u);
 }
+
+TEST_CASE("the sRGB curves: the linear piece up to its threshold, and 8-bit encoding correctly rounded away from byte boundaries") {
+    // IEC 61966-2-1: c <= 0.04045 decodes as c / 12.92 (the threshold itself included).
+    CHECK(srgb_to_linear(0.04045f) == 0.04045f / 12.92f);
+    CHECK(srgb_to_linear(0.04f) == 0.04f / 12.92f);
+    // Encoding to a byte goes through a table of 2^16 linear steps, each index rounded to
+    // the nearest step: the byte is the correctly rounded one, floor(255 c + 1/2) with c the
+    // curve worked out here in double, except within half a step's change (at the steepest,
+    // 12.92 x 255 / 65535 / 2 = 0.025 of a byte) of a rounding boundary; truncating the index
+    // instead is off by up to a whole step. Every float from 1e-6 to 1 by 2^-20, and all the
+    // table's steps.
+    const auto reference = [](double x) {
+        const double c = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+        return 255.0 * c;
+    };
+    int wrong = 0, checked = 0;
+    const auto check = [&](float x) {
+        const double exact = reference(double(x));
+        if (std::fabs(exact - std::floor(exact) - 0.5) < 0.03) return;  // within 0.03 of a boundary
+        ++checked;
+        wrong += linear_to_srgb8(x) != int(std::floor(exact + 0.5));
+    };
+    for (int k = 1; k < (1 << 20); ++k) check(float(k) / float(1 << 20));
+    for (int i = 1; i < 65536; ++i) check(float(i) / 65535.0f), check(std::nextafter(float(i) / 65535.0f, 0.0f));
+    CHECK(wrong == 0);
+    CHECK(checked > 1000000);
+    CHECK(linear_to_srgb8(0.0f) == 0);
+    CHECK(linear_to_srgb8(1.0f) == 255);
+    CHECK(linear_to_srgb8(std::nanf("")) == 0);
+}

@@ -27,8 +27,9 @@ const float* srgb8_to_linear_table() {
 }
 
 // Encoding goes through a table with 2^16 linear steps: the sRGB curve's steepest slope
-// (12.92 near 0) moves the output by 12.92 * 255 / 65535 = 0.05 of a byte per step, so the
-// table gives the correctly rounded byte except within 0.05 of a rounding boundary.
+// (12.92 near 0) moves the output by 12.92 * 255 / 65535 = 0.05 of a byte per step, and a
+// value is read at its nearest step, at most half a step away, so the table gives the
+// correctly rounded byte except within about 0.025 of a rounding boundary (tested at 0.03).
 const std::uint8_t* linear_to_srgb8_table() {
     static const std::array<std::uint8_t, 65536> table = [] {
         std::array<std::uint8_t, 65536> t{};
