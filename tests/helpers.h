@@ -5,9 +5,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
 #include "texr/scene/scene.h"
 
 namespace texr::testing {
@@ -71,6 +75,23 @@ inline std::string read_file(const std::string& path) {
 }
 
 inline std::string source_path(const std::string& relative) { return std::string(TEXR_SOURCE_DIR) + "/" + relative; }
+
+// An HDR image of w x h texels (row 0 first) whose four channels are each texel's value.
+inline Image hdr_image(int w, int h, const std::vector<float>& values) {
+    std::vector<float> rgba;
+    for (const float t : values)
+        for (int c = 0; c < 4; ++c) rgba.push_back(t);
+    return Image::hdr(w, h, rgba);
+}
+
+// A scene file's text, parsed (`name` stands for its file in messages) and rendered with
+// the default options.
+inline Framebuffer render_scene_text(const std::string& text, const std::string& name) {
+    std::istringstream in(text);
+    const Scene scene = parse_scene(in, name);
+    RenderStats stats;
+    return render(scene, RenderOptions{}, stats);
+}
 
 // A fresh, empty folder texr-test-NAME in the working folder (ctest runs the tests in the
 // build folder; .gitignore keeps any made elsewhere out of the repository).

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "helpers.h"
 #include "texr/scene/scene.h"
 #include "texr/texture/ewa.h"
 #include "texr/texture/lod_avx2.h"
@@ -1528,11 +1529,8 @@ TEST_CASE("the texels counted for anisotropic filtering are those its probes rea
 // Boundaries that a mutation test of mipmap.cpp, minify.{h,cpp} and lookup.cpp found
 // unchecked: each below fails when its comparison, constant or branch is changed.
 namespace {
-std::shared_ptr<const Image> hdr_image(int w, int h, const std::vector<float>& values) {  // every channel the value
-    std::vector<float> rgba;
-    for (const float t : values)
-        for (int c = 0; c < 4; ++c) rgba.push_back(t);
-    return std::make_shared<const Image>(Image::hdr(w, h, rgba));
+std::shared_ptr<const Image> hdr_image(int w, int h, const std::vector<float>& values) {
+    return std::make_shared<const Image>(testing::hdr_image(w, h, values));
 }
 }  // namespace
 

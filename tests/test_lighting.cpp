@@ -28,12 +28,7 @@ using namespace texr;
 
 namespace {
 
-Framebuffer render_text(const std::string& text) {
-    std::istringstream in(text);
-    const Scene scene = parse_scene(in, "lighting.scene");
-    RenderStats stats;
-    return render(scene, RenderOptions{}, stats);
-}
+Framebuffer render_text(const std::string& text) { return testing::render_scene_text(text, "lighting.scene"); }
 
 // The camera of these scenes: at (0, 3, 0) looking straight down (-y), up is -z, 90 degrees,
 // 32x32 pixels. The world point on the plane y = h seen at the centre of pixel (x, y).

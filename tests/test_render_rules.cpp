@@ -7,19 +7,10 @@
 #include <string>
 
 #include "helpers.h"
-#include "texr/render/renderer.h"
-#include "texr/scene/parser.h"
 
 using namespace texr;
 
 namespace {
-
-Framebuffer render_text(const std::string& text, const std::string& name) {
-    std::istringstream in(text);
-    const Scene scene = parse_scene(in, name);
-    RenderStats stats;
-    return render(scene, RenderOptions{}, stats);
-}
 
 // A quad filling the view of "camera eye 0 0 2 fov 90" (z = 0, x and y within 3), with
 // texture coordinates (u0, v0) to (u1, v1).
@@ -42,13 +33,13 @@ TEST_CASE("two surfaces at the same depth: the one drawn first keeps every pixel
     testing::write_text(dir + "/black.ppm", std::string("P6\n2 2\n255\n") + std::string(12, char(0)));
     for (const int size : {32, 8})
         for (const bool textured : {true, false}) {
-            const std::string materials =
-                textured ? "texture w file " + dir + "/white.ppm\ntexture b file " + dir + "/black.ppm\nmaterial first texture w\nmaterial second texture b\n"
-                         : "material first color 1 1 1\nmaterial second color 0 0 0\n";
-            const Framebuffer fb = render_text("size " + std::to_string(size) + " " + std::to_string(size) +
-                                                   "\ncamera eye 0 0 2 target 0 0 0 fov 90\n" + materials +
-                                                   quad("first", 0.2, 0.2, 0.8, 0.8) + quad("second", 0.2, 0.2, 0.8, 0.8),
-                                               "equal-depth.scene");
+            const std::string materials = textured ? "texture w file " + dir + "/white.ppm\ntexture b file " + dir +
+                                                         "/black.ppm\nmaterial first texture w\nmaterial second texture b\n"
+                                                   : "material first color 1 1 1\nmaterial second color 0 0 0\n";
+            const std::string scene = "size " + std::to_string(size) + " " + std::to_string(size) +
+                                      "\ncamera eye 0 0 2 target 0 0 0 fov 90\n" + materials + quad("first", 0.2, 0.2, 0.8, 0.8) +
+                                      quad("second", 0.2, 0.2, 0.8, 0.8);
+            const Framebuffer fb = testing::render_scene_text(scene, "equal-depth.scene");
             int white = 0;
             for (std::size_t i = 0; i < fb.color.size(); ++i) white += fb.color[i].x == 1.0f && fb.color[i].y == 1.0f;
             CAPTURE(size);
@@ -70,12 +61,12 @@ TEST_CASE("texture coordinates are re-based by whole periods only along an axis 
     row += std::string(3, char(0)) + std::string(3, char(255));
     testing::write_text(dir + "/row.ppm", row);
     const std::string camera = "size 16 16\ncamera eye 0 0 2 target 0 0 0 fov 90\n";
-    const Framebuffer v_clamped = render_text(camera + "texture t file " + dir + "/column.ppm filter nearest wrap_u repeat wrap_v clamp\n"
-                                                       "material m texture t\n" + quad("m", 0.0, 1.2, 1.0, 1.8),
-                                              "rebase.scene");
-    const Framebuffer u_clamped = render_text(camera + "texture t file " + dir + "/row.ppm filter nearest wrap_u clamp wrap_v repeat\n"
-                                                       "material m texture t\n" + quad("m", 1.2, 0.0, 1.8, 1.0),
-                                              "rebase.scene");
+    const std::string v_scene = camera + "texture t file " + dir + "/column.ppm filter nearest wrap_u repeat wrap_v clamp\n" +
+                                "material m texture t\n" + quad("m", 0.0, 1.2, 1.0, 1.8);
+    const std::string u_scene = camera + "texture t file " + dir + "/row.ppm filter nearest wrap_u clamp wrap_v repeat\n" +
+                                "material m texture t\n" + quad("m", 1.2, 0.0, 1.8, 1.0);
+    const Framebuffer v_clamped = testing::render_scene_text(v_scene, "rebase.scene");
+    const Framebuffer u_clamped = testing::render_scene_text(u_scene, "rebase.scene");
     for (const Framebuffer* fb : {&v_clamped, &u_clamped}) {
         int white = 0;
         for (std::size_t i = 0; i < fb->color.size(); ++i) white += fb->color[i].x == 1.0f;

@@ -9,6 +9,7 @@
 
 #include <glm/common.hpp>
 
+#include "helpers.h"
 #include "texr/texture/reconstruct.h"
 #include "texr/texture/wrap.h"
 
@@ -498,12 +499,7 @@ TEST_CASE("the short path is taken only for repeat on both axes and power-of-two
 // Boundaries that a mutation test of wrap.h and reconstruct.{h,cpp} found unchecked: each
 // below fails when its comparison is loosened or tightened by one.
 namespace {
-Image hdr_row(const std::vector<float>& values) {  // a 1-row HDR image, every channel the value
-    std::vector<float> rgba;
-    for (const float t : values)
-        for (int c = 0; c < 4; ++c) rgba.push_back(t);
-    return Image::hdr(int(values.size()), 1, rgba);
-}
+Image hdr_row(const std::vector<float>& values) { return testing::hdr_image(int(values.size()), 1, values); }
 }  // namespace
 
 TEST_CASE("a lattice coordinate of whole periods wraps to texel 0, whichever way its quotient rounds") {
