@@ -467,6 +467,80 @@ TEST_CASE("OBJ normals: the file's are kept where other faces have none, and com
     }
 }
 
+TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N smooths a group's faces only, a file without s lines smooths all") {
+    // Two unit quads meeting at the edge x = 1, z = 0 (positions 2 and 3): A in the plane z = 0
+    // facing +z, B in the plane x = 1 facing +x. Their vector areas (Newell: twice the area
+    // along the normal) are (0, 0, 2) and (2, 0, 0). Smoothed together, the shared corners
+    // take (1, 0, 1) / sqrt(2); apart, each face's corners take its own normal.
+    const std::string dir = testing::scratch_folder("obj-smoothing");
+    const std::string positions = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 -1\nv 1 1 -1\n";
+    const std::string a = "f 1 2 3 4\n", b = "f 2 5 6 3\n";
+    const glm::vec3 up(0.0f, 0.0f, 1.0f), side(1.0f, 0.0f, 0.0f);
+    const glm::vec3 shared = glm::vec3(1.0f, 0.0f, 1.0f) / std::sqrt(2.0f);
+    struct Case {
+        std::string faces;
+        bool together;  // A and B smoothed together
+        std::size_t vertices;
+        std::size_t flat_triangle = 99;  // a third face, flat, between them (its corners take +z)
+    };
+    const Case cases[] = {
+        {a + b, true, 6},                                         // no s line: one group
+        {"s 1\n" + a + b, true, 6},                               // one s group
+        {"s 7\n" + a + "s 007\n" + b, true, 6},                  // the same number, written otherwise
+        {"s 123456789012345678901234567890\n" + a + "s 0123456789012345678901234567890\n" + b, true, 6},
+        {"s 3\n" + a + "s off\nf 4 1 2\ns 3\n" + b, true, 9, 2},  // group 3 again, after a flat face
+        {"s off\n" + a + b, false, 8},
+        {"s 0\n" + a + "s 00\n" + b, false, 8},
+        {"s 1\n" + a + "s 2\n" + b, false, 8},
+        {a + "s 1\n" + b, false, 8},                               // before any s line, and group 1
+        {"s 1\n" + a + "s off\n" + b, false, 8},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.faces);
+        testing::write_text(dir + "/two.obj", positions + c.faces);
+        const Mesh mesh = load_obj(dir + "/two.obj", [](const ObjMaterialInfo&) { return 0; });
+        CHECK(mesh.vertices.size() == c.vertices);
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+            bool in_b = false;  // B's triangles have a corner at z = -1
+            for (const std::uint32_t k : mesh.triangles[t]) in_b = in_b || mesh.vertices[k].position.z == -1.0f;
+            for (const std::uint32_t i : mesh.triangles[t]) {
+                const Vertex& v = mesh.vertices[i];
+                CAPTURE(t);
+                CAPTURE(v.position.x);
+                CAPTURE(v.position.y);
+                CAPTURE(v.position.z);
+                const bool on_edge = v.position.x == 1.0f && v.position.z == 0.0f;
+                const glm::vec3 expected = t == c.flat_triangle       ? up
+                                           : on_edge && c.together ? shared
+                                           : in_b                  ? side
+                                                                   : up;
+                for (int k = 0; k < 3; ++k) CHECK(v.normal[k] == doctest::Approx(expected[k]).epsilon(1e-6));
+            }
+        }
+    }
+    // Rendered, lit along -z (N . L is N's z), from where both faces show: flat, every covered
+    // pixel is 1 (on A) or 0 (on B); smoothed, A darkens towards the shared edge.
+    const auto shades = [&](const std::string& faces) {
+        testing::write_text(dir + "/lit.obj", positions + faces);
+        const Framebuffer fb = render_text("size 120 90\ncamera eye 2.2 0.5 2.2 target 0.5 0.5 -0.3 fov 50\nbackground 0 0 1\n"
+                                           "light directional 0 0 -1\nmaterial m color 1 1 1 lighting lambert\nmesh " + dir + "/lit.obj material m\n");
+        int lit = 0, dark = 0, between = 0;
+        for (int y = 0; y < fb.height; ++y)
+            for (int x = 0; x < fb.width; ++x) {
+                const Color c = fb.color[fb.index(x, y)];
+                if (c.z == 1.0f && c.x == 0.0f) continue;  // background
+                const float r = c.x;
+                (r > 1.0f - 1e-5f ? lit : r < 1e-5f ? dark : between) += 1;
+            }
+        return std::array<int, 3>{lit, dark, between};
+    };
+    const std::array<int, 3> flat = shades("s off\n" + a + b), smooth = shades(a + b);
+    CHECK(flat[0] > 800);
+    CHECK(flat[1] > 400);
+    CHECK(flat[2] == 0);
+    CHECK(smooth[2] > 800);
+}
+
 TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the object itself") {
     // A cube seen from outside shows at most 3 faces: at least 3 (6 triangles) face away.
     // Culling them leaves the frame as it is without culling (the depth test hides them), with

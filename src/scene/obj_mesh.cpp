@@ -61,6 +61,10 @@ struct ObjLines {
     // Each face's corners, in file order (tinyobjloader keeps a face's count in an unsigned
     // char: 256 corners read as 0).
     std::vector<std::size_t> face_corners;
+    // Each face's smoothing group: 0 under `s off` or `s 0` (the face is flat: its corners
+    // without a normal take the face's own), 1 before any `s` line (smoothed together, as in
+    // a file without `s` lines), 2 and up the `s` numbers in order of first use.
+    std::vector<std::uint32_t> face_group;
     bool clean = false;
     std::vector<std::string> material_files;  // the .mtl files read
     bool colors = false;  // every v line has a colour (v x y z r g b)
@@ -276,6 +280,8 @@ ObjLines read_obj_lines(const std::string& path) {
     ObjLines out;
     std::map<std::string, std::uint32_t> index_of{{std::string(), 0}};
     std::uint32_t current = 0;
+    std::map<std::string, std::uint32_t> group_of;  // an `s` number (no leading zeros) -> its face_group
+    std::uint32_t group = 1;
     long long positions = 0, uvs = 0, normals = 0;  // defined so far
     long long colored = 0;  // v lines with a colour
     int first_colored = 0, first_plain = 0;  // the lines of the first v with a colour and without
@@ -376,6 +382,20 @@ ObjLines read_obj_lines(const std::string& path) {
             const std::string name(word);
             current = index_of.emplace(name, std::uint32_t(out.names.size())).first->second;
             if (current == out.names.size()) out.names.push_back(name);
+        } else if (keyword == "s") {
+            // `s N` smooths the faces that follow with the other faces of group N (a whole
+            // number of any length); `s off` or `s 0` makes them flat.
+            const std::string_view word = next_word();
+            const bool digits = !word.empty() && word.find_first_not_of("0123456789") == std::string_view::npos;
+            if (word != "off" && !digits)
+                fail("a smoothing group (s) is a whole number, or off, not " + (word.empty() ? std::string("nothing") : shown_token(std::string(word))));
+            if (!next_word().empty()) fail("a smoothing group (s) line holds one group");
+            const std::size_t first = word.find_first_not_of('0');
+            if (word == "off" || first == std::string_view::npos) {
+                group = 0;
+            } else {
+                group = group_of.emplace(std::string(word.substr(first)), std::uint32_t(group_of.size() + 2)).first->second;
+            }
         } else if (keyword == "f") {
             std::size_t corners = 0;
             for (std::string_view corner = next_word(); !corner.empty(); corner = next_word(), ++corners) {
@@ -401,6 +421,7 @@ ObjLines read_obj_lines(const std::string& path) {
             }
             if (corners < 3) fail("a face (f) needs at least 3 corners");
             out.face_corners.push_back(corners);
+            out.face_group.push_back(group);
             for (std::size_t k = 2; k < corners; ++k) out.per_triangle.push_back(current);
         }
     }
@@ -636,30 +657,46 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
     mesh.has_colors = lines.colors;
-    // One mesh vertex per distinct (position, normal, uv) index triple, numbered in order of
-    // first use.
+    // One mesh vertex per distinct (position, normal, uv) index triple and smoothing: a corner
+    // whose normal is computed is a vertex of its smoothing group (a flat face's corners are
+    // the face's own), numbered in order of first use.
+    using CornerKey = std::tuple<int, int, int, std::int64_t>;
     struct CornerHash {
-        std::size_t operator()(const std::tuple<int, int, int>& k) const {
+        std::size_t operator()(const CornerKey& k) const {
             std::uint64_t h = std::uint32_t(std::get<0>(k));
             h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<1>(k));
             h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<2>(k));
+            h = h * 0x9E3779B97F4A7C15ull ^ std::uint64_t(std::get<3>(k));
             return std::size_t(h ^ (h >> 29));
         }
     };
-    std::unordered_map<std::tuple<int, int, int>, std::uint32_t, CornerHash> vertex_of;
+    std::unordered_map<CornerKey, std::uint32_t, CornerHash> vertex_of;
     vertex_of.reserve(attrib.vertices.size() / 3);
     std::vector<int> position_of;  // by mesh vertex: its v index
     std::vector<bool> normal_given;  // by mesh vertex: a vn of non-zero length
+    std::vector<std::int64_t> smoothing;  // by mesh vertex: its key's smoothing part (below)
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
     std::vector<glm::vec3> corners;
     std::vector<std::array<std::size_t, 3>> face_split;
-    // The normals the file does not give are worked out from the faces around each position:
-    // each face's vector area (Newell's method, twice the area along the face's normal) added
-    // once at each of its positions.
+    // The normals the file does not give are worked out from the faces around each position
+    // in the corner's smoothing group: each face's vector area (Newell's method, twice the area
+    // along the face's normal) added once at each of its positions. `around` holds the faces
+    // before any `s` line (every face of a file without one), `around_group` those of `s`
+    // groups, by position and group; a flat face's corners take its own (`flat`).
     std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
     std::vector<std::size_t> last_face_at(std::size_t(position_count), std::size_t(-1));  // (each position once a face)
+    struct GroupSum {
+        glm::dvec3 sum{0.0};
+        std::size_t last_face = std::size_t(-1);
+    };
+    std::unordered_map<std::uint64_t, GroupSum> around_group;  // key: position << 32 | group
+    std::vector<glm::vec3> flat;  // by mesh vertex: its face's normal, where it is a flat face's
+    const auto unit_or_z = [](const glm::dvec3& sum) {
+        const double length = glm::length(sum);
+        return length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+    };
     std::size_t face_number = 0;
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
@@ -680,9 +717,15 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 corners.emplace_back(attrib.vertices[at], attrib.vertices[at + 1], attrib.vertices[at + 2]);
             }
             const glm::dvec3 area = newell_area(corners);
-            for (std::size_t k = 0; k < corner_count; ++k) {
+            const std::uint32_t group = lines.face_group[face_number];
+            for (std::size_t k = 0; k < corner_count && group > 0; ++k) {
                 const std::size_t position = std::size_t(indices[face_start + k].vertex_index);
-                if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
+                if (group == 1) {
+                    if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
+                } else {
+                    GroupSum& at = around_group[std::uint64_t(position) << 32 | group];
+                    if (at.last_face != face_number) at.sum += area, at.last_face = face_number;
+                }
             }
             face_triangles(corners, area, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
@@ -691,7 +734,14 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 for (int k = 0; k < 3; ++k) {
                     const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];  // (checked above)
                     face_has_uv = face_has_uv && idx.texcoord_index >= 0;
-                    const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
+                    // The key's smoothing part: 1 for a corner with a normal of its own (as for
+                    // every corner of a file without `s` lines), the group for one of an `s`
+                    // group, minus one less the face's number for one of a flat face.
+                    const std::size_t n3 = 3 * std::size_t(idx.normal_index);
+                    const bool has_normal = idx.normal_index >= 0 && (attrib.normals[n3] != 0.0f || attrib.normals[n3 + 1] != 0.0f ||
+                                                                       attrib.normals[n3 + 2] != 0.0f);
+                    const std::int64_t smooth = has_normal || group == 1 ? 1 : group == 0 ? -1 - std::int64_t(face_number) : std::int64_t(group);
+                    const CornerKey key(idx.vertex_index, idx.normal_index, idx.texcoord_index, smooth);
                     auto found = vertex_of.find(key);
                     if (found == vertex_of.end()) {
                         Vertex v;
@@ -711,7 +761,9 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
                         mesh.vertices.push_back(v);
                         position_of.push_back(idx.vertex_index);
-                        normal_given.push_back(idx.normal_index >= 0 && v.normal != glm::vec3(0.0f));
+                        normal_given.push_back(has_normal);
+                        smoothing.push_back(smooth);
+                        if (smooth < 0) flat.resize(mesh.vertices.size()), flat.back() = unit_or_z(area);
                     }
                     triangle[std::size_t(k)] = found->second;
                 }
@@ -728,15 +780,17 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     mesh.material_files = lines.material_files;
 
     // The normals the file does not give (a corner without vn, or a vn of length 0, which has
-    // no direction): the area-weighted mean of the normals of the faces around the corner's
-    // position (its v index, whatever the corners' vt and vn: a texture seam is no crease),
-    // by the faces' winding (`around`, above). Given normals are kept.
+    // no direction): the area-weighted mean of the normals of the faces of the corner's
+    // smoothing group around its position (its v index, whatever the corners' vt and vn: a
+    // texture seam is no crease), by the faces' winding (`around`, above); a flat face's own.
+    // Given normals are kept.
     if (std::find(normal_given.begin(), normal_given.end(), false) != normal_given.end()) {
         for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
             if (normal_given[i]) continue;
-            const glm::dvec3 sum = around[std::size_t(position_of[i])];
-            const double length = glm::length(sum);
-            mesh.vertices[i].normal = length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+            const std::size_t position = std::size_t(position_of[i]);
+            mesh.vertices[i].normal = smoothing[i] < 0 ? flat[i]
+                                      : smoothing[i] == 1 ? unit_or_z(around[position])
+                                                          : unit_or_z(around_group.at(std::uint64_t(position) << 32 | std::uint64_t(smoothing[i])).sum);
         }
     }
     mesh.has_normals = true;  // (given or computed, every vertex has one)
