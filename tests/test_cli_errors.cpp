@@ -1464,12 +1464,12 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         // (a colour's NaN turned a whole triangle's red to 0; a position's dropped it, a
         // normal's made N NaN); an exponent past an int's digits makes it drop every colour;
         // it splits words at spaces and tabs alone ('1\v0' moved a vertex without a word).
-        // A smoothing group is a whole number or off (tinyobjloader read 'on', '-1' and '1.5'
-        // as groups of its own choosing, and an empty one as 0).
-        {triangle + "s on\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) is a whole number, or off, not 'on'"},
+        // A smoothing group is a whole number, on or off (tinyobjloader read '-1', '1.5' and
+        // 'yes' as groups of its own choosing, and an empty one as 0).
+        {triangle + "s yes\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) is a whole number, on or off, not 'yes'"},
         {triangle + "s -1\nf 1 2 3\n", "bad.obj:4: ", "not '-1'"},
         {triangle + "s 1.5\nf 1 2 3\n", "bad.obj:4: ", "not '1.5'"},
-        {triangle + "f 1 2 3\ns\n", "bad.obj:5: ", "a smoothing group (s) is a whole number, or off, not nothing"},
+        {triangle + "f 1 2 3\ns\n", "bad.obj:5: ", "a smoothing group (s) is a whole number, on or off, not nothing"},
         {triangle + "s 1 2\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) line holds one group"},
         {"v 0 0 0 0e500 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:1: ", "reads the number 0 as nan on this v line"},
         {"v 0 0 0\nv 1 0e500 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:2: ", "reads the number 0 as nan on this v line"},

@@ -467,7 +467,7 @@ TEST_CASE("OBJ normals: the file's are kept where other faces have none, and com
     }
 }
 
-TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N smooths a group's faces only, a file without s lines smooths all") {
+TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N (or on) smooths a group's faces only, a file without s lines smooths all") {
     // Two unit quads meeting at the edge x = 1, z = 0 (positions 2 and 3): A in the plane z = 0
     // facing +z, B in the plane x = 1 facing +x. Their vector areas (Newell: twice the area
     // along the normal) are (0, 0, 2) and (2, 0, 0). Smoothed together, the shared corners
@@ -487,6 +487,7 @@ TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N smooths a group's f
         {a + b, true, 6},                                         // no s line: one group
         {"s 1\n" + a + b, true, 6},                               // one s group
         {"s 7\n" + a + "s 007\n" + b, true, 6},                  // the same number, written otherwise
+        {"s on\n" + a + "s 1\n" + b, true, 6},                    // on is group 1
         {"s 123456789012345678901234567890\n" + a + "s 0123456789012345678901234567890\n" + b, true, 6},
         {"s 3\n" + a + "s off\nf 4 1 2\ns 3\n" + b, true, 9, 2},  // group 3 again, after a flat face
         {"s off\n" + a + b, false, 8},
@@ -494,6 +495,7 @@ TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N smooths a group's f
         {"s 1\n" + a + "s 2\n" + b, false, 8},
         {a + "s 1\n" + b, false, 8},                               // before any s line, and group 1
         {"s 1\n" + a + "s off\n" + b, false, 8},
+        {"s on\n" + a + "s 2\n" + b, false, 8},
     };
     for (const Case& c : cases) {
         CAPTURE(c.faces);

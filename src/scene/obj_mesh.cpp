@@ -384,12 +384,14 @@ ObjLines read_obj_lines(const std::string& path) {
             if (current == out.names.size()) out.names.push_back(name);
         } else if (keyword == "s") {
             // `s N` smooths the faces that follow with the other faces of group N (a whole
-            // number of any length); `s off` or `s 0` makes them flat.
-            const std::string_view word = next_word();
+            // number of any length; `s on`, which some exporters write, is group 1); `s off`
+            // or `s 0` makes them flat.
+            std::string_view word = next_word();
             const bool digits = !word.empty() && word.find_first_not_of("0123456789") == std::string_view::npos;
-            if (word != "off" && !digits)
-                fail("a smoothing group (s) is a whole number, or off, not " + (word.empty() ? std::string("nothing") : shown_token(std::string(word))));
+            if (word != "off" && word != "on" && !digits)
+                fail("a smoothing group (s) is a whole number, on or off, not " + (word.empty() ? std::string("nothing") : shown_token(std::string(word))));
             if (!next_word().empty()) fail("a smoothing group (s) line holds one group");
+            if (word == "on") word = "1";
             const std::size_t first = word.find_first_not_of('0');
             if (word == "off" || first == std::string_view::npos) {
                 group = 0;
