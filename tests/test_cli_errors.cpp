@@ -1470,7 +1470,7 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {triangle + "s -1\nf 1 2 3\n", "bad.obj:4: ", "not '-1'"},
         {triangle + "s 1.5\nf 1 2 3\n", "bad.obj:4: ", "not '1.5'"},
         {triangle + "f 1 2 3\ns\n", "bad.obj:5: ", "a smoothing group (s) is a whole number, on or off, not nothing"},
-        {triangle + "s 1 2\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) line holds one group"},
+        {triangle + "s 1 2\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) line holds one group, not '1' and '2'"},
         {"v 0 0 0 0e500 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:1: ", "reads the number 0 as nan on this v line"},
         {"v 0 0 0\nv 1 0e500 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:2: ", "reads the number 0 as nan on this v line"},
         {triangle + "vn 0e500 0 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "reads the number 0 as nan on this vn line"},

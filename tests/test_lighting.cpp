@@ -520,6 +520,43 @@ TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N (or on) smooths a g
             }
         }
     }
+    // Corners with a normal of their own keep it under s off, and are one vertex whatever their
+    // groups (4 vertices here, not 6); a flat face's normal is its whole outline's (Newell's),
+    // which for a concave quad whose second corner is reflex, (0, 2), (0.5, 1), (0, 0), (2, 1)
+    // (shoelace: twice the area is +3, counter-clockwise), and a concave pentagon is +z,
+    // where its first three corners alone would turn the other way.
+    const auto normals_of = [&](const std::string& obj) {
+        testing::write_text(dir + "/more.obj", obj);
+        return load_obj(dir + "/more.obj", [](const ObjMaterialInfo&) { return 0; });
+    };
+    Mesh mesh = normals_of(positions + "vn 0 3 0\ns off\nf 1//1 2 3 4\n");
+    REQUIRE(mesh.vertices.size() == 4);
+    for (const Vertex& v : mesh.vertices) CHECK(v.normal == (v.position == glm::vec3(0.0f) ? glm::vec3(0.0f, 3.0f, 0.0f) : up));
+    mesh = normals_of(positions + "vn 0 3 0\ns 1\nf 1//1 2//1 3//1\ns 2\nf 1//1 3//1 4//1\n");
+    CHECK(mesh.vertices.size() == 4);
+    mesh = normals_of("v 0 2 0\nv 0.5 1 0\nv 0 0 0\nv 2 1 0\nv 0 0 1\nv 2 0 1\nv 2 2 1\nv 1 0.5 1\nv 0 2 1\n"
+                      "s off\nf 1 2 3 4\nf 5 6 7 8 9\n");
+    REQUIRE(mesh.vertices.size() == 9);
+    for (const Vertex& v : mesh.vertices) CHECK(v.normal == up);
+    // A position a face passes twice (a spike of no width, 3 -> 7 -> 3, on B) counts that face
+    // once in its group's sum: the shared corners stay (1, 0, 1) / sqrt(2), in the first group
+    // a face is in and in a later one (after a face C of group 1 elsewhere).
+    for (const std::string& first : {std::string(), std::string("v 5 5 5\nv 6 5 5\nv 5 6 5\ns 1\nf 8 9 10\n")}) {
+        CAPTURE(first);
+        mesh = normals_of(positions + "v 1 2 0\n" + first + "s 5\n" + a + "f 2 5 6 3 7 3\n");
+        for (const Vertex& v : mesh.vertices) {
+            CAPTURE(v.position.x);
+            CAPTURE(v.position.y);
+            CAPTURE(v.position.z);
+            if (v.position.z == 5.0f) continue;  // C
+            const glm::vec3 expected = v.position.x == 1.0f && v.position.z == 0.0f && v.position.y < 1.5f ? shared
+                                       : v.position.x == 1.0f && v.position.z != 0.0f                  ? side
+                                       : v.position.y == 2.0f                                           ? side
+                                                                                                        : up;
+            for (int k = 0; k < 3; ++k) CHECK(v.normal[k] == doctest::Approx(expected[k]).epsilon(1e-6));
+        }
+    }
+
     // Rendered, lit along -z (N . L is N's z), from where both faces show: flat, every covered
     // pixel is 1 (on A) or 0 (on B); smoothed, A darkens towards the shared edge.
     const auto shades = [&](const std::string& faces) {

@@ -390,7 +390,9 @@ ObjLines read_obj_lines(const std::string& path) {
             const bool digits = !word.empty() && word.find_first_not_of("0123456789") == std::string_view::npos;
             if (word != "off" && word != "on" && !digits)
                 fail("a smoothing group (s) is a whole number, on or off, not " + (word.empty() ? std::string("nothing") : shown_token(std::string(word))));
-            if (!next_word().empty()) fail("a smoothing group (s) line holds one group");
+            const std::string_view extra = next_word();
+            if (!extra.empty())
+                fail("a smoothing group (s) line holds one group, not " + shown_token(std::string(word)) + " and " + shown_token(std::string(extra)));
             if (word == "on") word = "1";
             const std::size_t first = word.find_first_not_of('0');
             if (word == "off" || first == std::string_view::npos) {
@@ -594,6 +596,24 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
     out.push_back({left[0], left[1], left[2]});
 }
 
+// The mesh vertex of a face corner: its position, colour (sRGB in the file, as a scene file's
+// colours), normal (0 where the corner has none) and texture coordinates (0 where none).
+Vertex obj_vertex(const tinyobj::attrib_t& attrib, const tinyobj::index_t& idx, bool colors) {
+    Vertex v;
+    const std::size_t p = 3 * std::size_t(idx.vertex_index);
+    v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
+    if (colors) v.color = {srgb_to_linear(attrib.colors[p]), srgb_to_linear(attrib.colors[p + 1]), srgb_to_linear(attrib.colors[p + 2])};
+    if (idx.normal_index >= 0) {
+        const std::size_t n = 3 * std::size_t(idx.normal_index);
+        v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
+    }
+    if (idx.texcoord_index >= 0) {
+        const std::size_t t = 2 * std::size_t(idx.texcoord_index);
+        v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
+    }
+    return v;
+}
+
 }  // namespace
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
@@ -659,24 +679,28 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     mesh.source = path;
     mesh.has_uv = !attrib.texcoords.empty();
     mesh.has_colors = lines.colors;
-    // One mesh vertex per distinct (position, normal, uv) index triple and smoothing: a corner
-    // whose normal is computed is a vertex of its smoothing group (a flat face's corners are
-    // the face's own), numbered in order of first use.
-    using CornerKey = std::tuple<int, int, int, std::int64_t>;
+    // One mesh vertex per distinct (position, normal, uv) index triple and smoothing group,
+    // numbered in order of first use: a corner with a normal of its own is one vertex whatever
+    // its group (group part 0), a corner whose normal is computed one of its group's, and each
+    // corner of a flat face without a normal its own (`flat_vertex`, not in vertex_of).
+    using CornerKey = std::tuple<int, int, int, std::uint32_t>;
     struct CornerHash {
         std::size_t operator()(const CornerKey& k) const {
             std::uint64_t h = std::uint32_t(std::get<0>(k));
             h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<1>(k));
             h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(std::get<2>(k));
-            h = h * 0x9E3779B97F4A7C15ull ^ std::uint64_t(std::get<3>(k));
+            h = h * 0x9E3779B97F4A7C15ull ^ std::get<3>(k);
             return std::size_t(h ^ (h >> 29));
         }
     };
     std::unordered_map<CornerKey, std::uint32_t, CornerHash> vertex_of;
     vertex_of.reserve(attrib.vertices.size() / 3);
+    std::vector<std::uint32_t> flat_vertex;  // by corner of a flat face: its vertex (none: no_vertex)
+    constexpr std::uint32_t no_vertex = ~std::uint32_t(0);
     std::vector<int> position_of;  // by mesh vertex: its v index
-    std::vector<bool> normal_given;  // by mesh vertex: a vn of non-zero length
-    std::vector<std::int64_t> smoothing;  // by mesh vertex: its key's smoothing part (below)
+    // By mesh vertex: the smoothing group whose faces around its position give its normal, or
+    // 0 where its normal is set (a vn of non-zero length, or a flat face's own).
+    std::vector<std::uint32_t> normal_from;
     const int position_count = int(attrib.vertices.size() / 3);
     const int normal_count = int(attrib.normals.size() / 3);
     const int uv_count = int(attrib.texcoords.size() / 2);
@@ -684,17 +708,17 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     std::vector<std::array<std::size_t, 3>> face_split;
     // The normals the file does not give are worked out from the faces around each position
     // in the corner's smoothing group: each face's vector area (Newell's method, twice the area
-    // along the face's normal) added once at each of its positions. `around` holds the faces
-    // before any `s` line (every face of a file without one), `around_group` those of `s`
-    // groups, by position and group; a flat face's corners take its own (`flat`).
+    // along the face's normal) added once at each of its positions. `around` holds the faces of
+    // the first group a face is in (every face of a file without `s` lines, or of a file
+    // under one `s` line), by position; `around_group` the other groups', by position and group.
     std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
     std::vector<std::size_t> last_face_at(std::size_t(position_count), std::size_t(-1));  // (each position once a face)
+    std::uint32_t around_is = 0;  // the group `around` holds (0: none yet)
     struct GroupSum {
         glm::dvec3 sum{0.0};
         std::size_t last_face = std::size_t(-1);
     };
     std::unordered_map<std::uint64_t, GroupSum> around_group;  // key: position << 32 | group
-    std::vector<glm::vec3> flat;  // by mesh vertex: its face's normal, where it is a flat face's
     const auto unit_or_z = [](const glm::dvec3& sum) {
         const double length = glm::length(sum);
         return length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
@@ -720,15 +744,17 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             }
             const glm::dvec3 area = newell_area(corners);
             const std::uint32_t group = lines.face_group[face_number];
+            if (around_is == 0) around_is = group;
             for (std::size_t k = 0; k < corner_count && group > 0; ++k) {
                 const std::size_t position = std::size_t(indices[face_start + k].vertex_index);
-                if (group == 1) {
+                if (group == around_is) {
                     if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
                 } else {
                     GroupSum& at = around_group[std::uint64_t(position) << 32 | group];
                     if (at.last_face != face_number) at.sum += area, at.last_face = face_number;
                 }
             }
+            if (group == 0) flat_vertex.assign(corner_count, no_vertex);
             face_triangles(corners, area, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
                 std::array<std::uint32_t, 3> triangle{};
@@ -736,36 +762,28 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 for (int k = 0; k < 3; ++k) {
                     const tinyobj::index_t& idx = indices[face_start + corner_of[std::size_t(k)]];  // (checked above)
                     face_has_uv = face_has_uv && idx.texcoord_index >= 0;
-                    // The key's smoothing part: 1 for a corner with a normal of its own (as for
-                    // every corner of a file without `s` lines), the group for one of an `s`
-                    // group, minus one less the face's number for one of a flat face.
                     const std::size_t n3 = 3 * std::size_t(idx.normal_index);
                     const bool has_normal = idx.normal_index >= 0 && (attrib.normals[n3] != 0.0f || attrib.normals[n3 + 1] != 0.0f ||
                                                                        attrib.normals[n3 + 2] != 0.0f);
-                    const std::int64_t smooth = has_normal || group == 1 ? 1 : group == 0 ? -1 - std::int64_t(face_number) : std::int64_t(group);
-                    const CornerKey key(idx.vertex_index, idx.normal_index, idx.texcoord_index, smooth);
+                    const CornerKey key(idx.vertex_index, idx.normal_index, idx.texcoord_index, has_normal ? 0 : group);
+                    if (!has_normal && group == 0) {  // a flat face's corner: its own vertex
+                        std::uint32_t& vertex = flat_vertex[corner_of[std::size_t(k)]];
+                        if (vertex == no_vertex) {
+                            vertex = std::uint32_t(mesh.vertices.size());
+                            mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
+                            mesh.vertices.back().normal = unit_or_z(area);
+                            position_of.push_back(idx.vertex_index);
+                            normal_from.push_back(0);
+                        }
+                        triangle[std::size_t(k)] = vertex;
+                        continue;
+                    }
                     auto found = vertex_of.find(key);
                     if (found == vertex_of.end()) {
-                        Vertex v;
-                        const std::size_t p = 3 * std::size_t(idx.vertex_index);
-                        v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
-                        if (lines.colors)  // sRGB, as a scene file's colours
-                            v.color = {srgb_to_linear(attrib.colors[p]), srgb_to_linear(attrib.colors[p + 1]),
-                                       srgb_to_linear(attrib.colors[p + 2])};
-                        if (idx.normal_index >= 0) {
-                            const std::size_t n = 3 * std::size_t(idx.normal_index);
-                            v.normal = {attrib.normals[n], attrib.normals[n + 1], attrib.normals[n + 2]};
-                        }
-                        if (idx.texcoord_index >= 0) {
-                            const std::size_t t = 2 * std::size_t(idx.texcoord_index);
-                            v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
-                        }
                         found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
-                        mesh.vertices.push_back(v);
+                        mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
                         position_of.push_back(idx.vertex_index);
-                        normal_given.push_back(has_normal);
-                        smoothing.push_back(smooth);
-                        if (smooth < 0) flat.resize(mesh.vertices.size()), flat.back() = unit_or_z(area);
+                        normal_from.push_back(has_normal ? 0 : group);
                     }
                     triangle[std::size_t(k)] = found->second;
                 }
@@ -784,16 +802,13 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     // The normals the file does not give (a corner without vn, or a vn of length 0, which has
     // no direction): the area-weighted mean of the normals of the faces of the corner's
     // smoothing group around its position (its v index, whatever the corners' vt and vn: a
-    // texture seam is no crease), by the faces' winding (`around`, above); a flat face's own.
-    // Given normals are kept.
-    if (std::find(normal_given.begin(), normal_given.end(), false) != normal_given.end()) {
-        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-            if (normal_given[i]) continue;
-            const std::size_t position = std::size_t(position_of[i]);
-            mesh.vertices[i].normal = smoothing[i] < 0 ? flat[i]
-                                      : smoothing[i] == 1 ? unit_or_z(around[position])
-                                                          : unit_or_z(around_group.at(std::uint64_t(position) << 32 | std::uint64_t(smoothing[i])).sum);
-        }
+    // texture seam is no crease), by the faces' winding (`around`, above); a flat face's own
+    // (set above). Given normals are kept.
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const std::uint32_t group = normal_from[i];
+        if (group == 0) continue;
+        const std::size_t position = std::size_t(position_of[i]);
+        mesh.vertices[i].normal = unit_or_z(group == around_is ? around[position] : around_group.at(std::uint64_t(position) << 32 | group).sum);
     }
     mesh.has_normals = true;  // (given or computed, every vertex has one)
     return mesh;
