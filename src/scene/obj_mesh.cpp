@@ -614,6 +614,56 @@ Vertex obj_vertex(const tinyobj::attrib_t& attrib, const tinyobj::index_t& idx, 
     return v;
 }
 
+// The normals an OBJ file does not give, worked out from the faces around each position in a
+// smoothing group: each face's vector area (Newell's method, twice the area along the face's
+// normal) added once at each of its positions, and the sum made unit length (the
+// area-weighted mean of the faces' normals). The first group a face is in (every face of a
+// file without `s` lines, or of a file under one `s` line) is summed by position in a
+// vector; the other groups by position and group in a hash map.
+class GroupNormals {
+public:
+    explicit GroupNormals(std::size_t positions) : around_(positions, glm::dvec3(0.0)), last_face_at_(positions, std::size_t(-1)) {}
+
+    // Face number `face` of smoothing group `group` (not 0: flat faces take their own normal),
+    // at these positions (a position it passes twice counted once).
+    template <typename Positions>
+    void add_face(std::size_t face, std::uint32_t group, const glm::dvec3& area, std::size_t corner_count, Positions position_of_corner) {
+        if (first_group_ == 0) first_group_ = group;
+        for (std::size_t k = 0; k < corner_count; ++k) {
+            const std::size_t position = position_of_corner(k);
+            if (group == first_group_) {
+                if (last_face_at_[position] != face) around_[position] += area, last_face_at_[position] = face;
+            } else {
+                GroupSum& at = around_group_[key(position, group)];
+                if (at.last_face != face) at.sum += area, at.last_face = face;
+            }
+        }
+    }
+
+    // The normal at a position of a group one of add_face's faces was in.
+    glm::vec3 at(std::size_t position, std::uint32_t group) const {
+        return unit_or_z(group == first_group_ ? around_[position] : around_group_.at(key(position, group)).sum);
+    }
+
+    // A sum of vector areas as a unit normal; +z where it is 0 (faces of no area).
+    static glm::vec3 unit_or_z(const glm::dvec3& sum) {
+        const double length = glm::length(sum);
+        return length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+
+private:
+    struct GroupSum {
+        glm::dvec3 sum{0.0};
+        std::size_t last_face = std::size_t(-1);
+    };
+    static std::uint64_t key(std::size_t position, std::uint32_t group) { return std::uint64_t(position) << 32 | group; }
+
+    std::uint32_t first_group_ = 0;  // (0: no face yet)
+    std::vector<glm::dvec3> around_;
+    std::vector<std::size_t> last_face_at_;  // (each position once a face)
+    std::unordered_map<std::uint64_t, GroupSum> around_group_;
+};
+
 }  // namespace
 
 Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
@@ -706,23 +756,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     const int uv_count = int(attrib.texcoords.size() / 2);
     std::vector<glm::vec3> corners;
     std::vector<std::array<std::size_t, 3>> face_split;
-    // The normals the file does not give are worked out from the faces around each position
-    // in the corner's smoothing group: each face's vector area (Newell's method, twice the area
-    // along the face's normal) added once at each of its positions. `around` holds the faces of
-    // the first group a face is in (every face of a file without `s` lines, or of a file
-    // under one `s` line), by position; `around_group` the other groups', by position and group.
-    std::vector<glm::dvec3> around(std::size_t(position_count), glm::dvec3(0.0));
-    std::vector<std::size_t> last_face_at(std::size_t(position_count), std::size_t(-1));  // (each position once a face)
-    std::uint32_t around_is = 0;  // the group `around` holds (0: none yet)
-    struct GroupSum {
-        glm::dvec3 sum{0.0};
-        std::size_t last_face = std::size_t(-1);
-    };
-    std::unordered_map<std::uint64_t, GroupSum> around_group;  // key: position << 32 | group
-    const auto unit_or_z = [](const glm::dvec3& sum) {
-        const double length = glm::length(sum);
-        return length > 0.0 ? glm::vec3(sum / length) : glm::vec3(0.0f, 0.0f, 1.0f);
-    };
+    GroupNormals group_normals(static_cast<std::size_t>(position_count));
     std::size_t face_number = 0;
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
@@ -744,17 +778,11 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
             }
             const glm::dvec3 area = newell_area(corners);
             const std::uint32_t group = lines.face_group[face_number];
-            if (around_is == 0) around_is = group;
-            for (std::size_t k = 0; k < corner_count && group > 0; ++k) {
-                const std::size_t position = std::size_t(indices[face_start + k].vertex_index);
-                if (group == around_is) {
-                    if (last_face_at[position] != face_number) around[position] += area, last_face_at[position] = face_number;
-                } else {
-                    GroupSum& at = around_group[std::uint64_t(position) << 32 | group];
-                    if (at.last_face != face_number) at.sum += area, at.last_face = face_number;
-                }
-            }
-            if (group == 0) flat_vertex.assign(corner_count, no_vertex);
+            if (group > 0)
+                group_normals.add_face(face_number, group, area, corner_count,
+                                       [&](std::size_t k) { return std::size_t(indices[face_start + k].vertex_index); });
+            else
+                flat_vertex.assign(corner_count, no_vertex);
             face_triangles(corners, area, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
                 std::array<std::uint32_t, 3> triangle{};
@@ -771,7 +799,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         if (vertex == no_vertex) {
                             vertex = std::uint32_t(mesh.vertices.size());
                             mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
-                            mesh.vertices.back().normal = unit_or_z(area);
+                            mesh.vertices.back().normal = GroupNormals::unit_or_z(area);
                             position_of.push_back(idx.vertex_index);
                             normal_from.push_back(0);
                         }
@@ -802,14 +830,10 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     // The normals the file does not give (a corner without vn, or a vn of length 0, which has
     // no direction): the area-weighted mean of the normals of the faces of the corner's
     // smoothing group around its position (its v index, whatever the corners' vt and vn: a
-    // texture seam is no crease), by the faces' winding (`around`, above); a flat face's own
-    // (set above). Given normals are kept.
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-        const std::uint32_t group = normal_from[i];
-        if (group == 0) continue;
-        const std::size_t position = std::size_t(position_of[i]);
-        mesh.vertices[i].normal = unit_or_z(group == around_is ? around[position] : around_group.at(std::uint64_t(position) << 32 | group).sum);
-    }
+    // texture seam is no crease), by the faces' winding; a flat face's own (set above). Given
+    // normals are kept.
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        if (normal_from[i] != 0) mesh.vertices[i].normal = group_normals.at(std::size_t(position_of[i]), normal_from[i]);
     mesh.has_normals = true;  // (given or computed, every vertex has one)
     return mesh;
 }
