@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "../src/bench/common.h"  // (median, fixed: the benchmarks' own helpers)
 #include "texr/bench/metrics.h"
 #include "texr/bench/targets.h"
 
@@ -73,4 +74,82 @@ TEST_CASE("bench targets: met at the threshold, missed past it or on NaN, counte
     const std::string md2 = targets_markdown({small, asked});
     CHECK(md2.find("| scale | third | 20 | c3 | not measured: the target is for 1M triangles |") != std::string::npos);
     CHECK(md2.find("1 of 2 targets met (1 not measured as the issues ask)") != std::string::npos);
+}
+
+TEST_CASE("PSNR and SSIM against their definitions: a hand-worked PSNR, and SSIM by a slower two-pass sum") {
+    // PSNR: channel errors 1, 2, 3, 4, 5, 6 over two pixels: MSE = 91 / 6.
+    const FrameBytes a{2, 1, {10, 20, 30, 40, 50, 60}}, b{2, 1, {11, 22, 33, 44, 55, 66}};
+    CHECK(psnr(a, b, {true, true}) == doctest::Approx(10.0 * std::log10(255.0 * 255.0 * 6.0 / 91.0)).epsilon(1e-12));  // 36.3219 dB
+    CHECK(psnr(a, b, {false, true}) == doctest::Approx(10.0 * std::log10(255.0 * 255.0 * 3.0 / 77.0)).epsilon(1e-12));
+    // SSIM (Wang et al. 2004) as metrics.h states it, written otherwise: each pixel's window
+    // weights exp(-(dx^2 + dy^2) / (2 1.5^2)) for |dx|, |dy| <= 5 within the frame, the means
+    // first, then the variances and covariance about them.
+    const auto reference = [](const FrameBytes& f, const FrameBytes& g, const std::vector<bool>& mask) {
+        const auto y = [](const FrameBytes& im, int x, int yy) {
+            const std::size_t p = 3 * (std::size_t(yy) * std::size_t(im.width) + std::size_t(x));
+            return 0.299 * im.rgb[p] + 0.587 * im.rgb[p + 1] + 0.114 * im.rgb[p + 2];
+        };
+        double total = 0.0;
+        int count = 0;
+        for (int py = 0; py < f.height; ++py)
+            for (int px = 0; px < f.width; ++px) {
+                if (!mask[std::size_t(py * f.width + px)]) continue;
+                struct Sample {
+                    double w, x, y;
+                };
+                std::vector<Sample> window;
+                for (int qy = std::max(0, py - 5); qy <= std::min(f.height - 1, py + 5); ++qy)
+                    for (int qx = std::max(0, px - 5); qx <= std::min(f.width - 1, px + 5); ++qx) {
+                        const double d2 = double((qx - px) * (qx - px) + (qy - py) * (qy - py));
+                        window.push_back({std::exp(-d2 / 4.5), y(f, qx, qy), y(g, qx, qy)});
+                    }
+                double w = 0, mx = 0, my = 0;
+                for (const Sample& s : window) w += s.w, mx += s.w * s.x, my += s.w * s.y;
+                mx /= w, my /= w;
+                double vx = 0, vy = 0, cxy = 0;
+                for (const Sample& s : window)
+                    vx += s.w * (s.x - mx) * (s.x - mx), vy += s.w * (s.y - my) * (s.y - my), cxy += s.w * (s.x - mx) * (s.y - my);
+                vx /= w, vy /= w, cxy /= w;
+                const double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
+                total += (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+                ++count;
+            }
+        return total / count;
+    };
+    // A colour ramp, and the ramp with noise, 20 x 16: the whole frame, and a mask of the
+    // pixels near its edges and corners, where windows are clipped.
+    FrameBytes ramp{20, 16, std::vector<std::uint8_t>(20 * 16 * 3)};
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 20; ++x) {
+            const std::size_t p = 3 * std::size_t(y * 20 + x);
+            ramp.rgb[p] = std::uint8_t(10 * x), ramp.rgb[p + 1] = std::uint8_t(12 * y), ramp.rgb[p + 2] = std::uint8_t(5 * (x + y));
+        }
+    FrameBytes noisy = ramp;
+    std::mt19937_64 rng(7);
+    for (std::uint8_t& v : noisy.rgb) v = std::uint8_t(std::min(255, int(v) + int(rng() % 40)));
+    std::vector<bool> all(20 * 16, true), edges(20 * 16, false);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 20; ++x) edges[std::size_t(y * 20 + x)] = x < 3 || y < 2 || x > 17 || y > 14;
+    for (const std::vector<bool>* mask : {&all, &edges}) {
+        const double expected = reference(ramp, noisy, *mask);
+        CHECK(expected < 0.99);
+        CHECK(ssim(ramp, noisy, *mask) == doctest::Approx(expected).epsilon(1e-10));
+    }
+}
+
+TEST_CASE("the benchmarks' median, fixed-point text and targets' text") {
+    using texr::bench::median;
+    CHECK(median({3, 1, 2}) == 2.0);
+    CHECK(median({4, 1, 3, 2}) == 2.5);
+    CHECK(median({5, 1}) == 3.0);
+    CHECK(median({7}) == 7.0);
+    CHECK(texr::bench::fixed(INFINITY, 2) == "inf");
+    CHECK(texr::bench::fixed(-INFINITY, 2) == "-inf");
+    using namespace texr::bench;
+    // Significant digits: 3 of 0.0123456.
+    CHECK(at_least("spans", "g", "c", 0.0123456, 1.0, "texel", -3).measured == "0.0123 texel");
+    // A table of targets all measured says nothing of targets not measured.
+    const std::string md = targets_markdown({at_least("filters", "g", "c", 2.0, 1.0, "", 1)});
+    CHECK(md.find("1 of 1 targets met.") != std::string::npos);
+    CHECK(md.find("not measured") == std::string::npos);
 }

@@ -123,3 +123,26 @@ TEST_CASE("plots of a 0 on a log axis, or of values a few roundings apart, are d
     svg = scatter_svg(axes, {{"a", "p", 1.0, 1e17}, {"a", "q", 2.0, 1e17 + 16}});
     CHECK(svg.find("</svg>") != std::string::npos);
 }
+
+TEST_CASE("plot ticks at their edges: equal ends, steps of ten, ranges about one value, large values, tick texts that carry") {
+    // lo must be below hi.
+    CHECK(axis_ticks(1.0, 1.0, true).empty());
+    CHECK(axis_ticks(1.0, 1.0, false).empty());
+    // (3 - -0.5) / 6 = 0.583: no 1, 2 or 5 times 0.1 reaches it, so the step is 1, from the
+    // first multiple at or above -0.5.
+    check_ticks(axis_ticks(-0.5, 3.0, false), {0, 1, 2, 3});
+    // (6 - 0) / 6 = 1 exactly: a step of 1, seven ticks.
+    check_ticks(axis_ticks(0.0, 6.0, false), {0, 1, 2, 3, 4, 5, 6});
+    // At 1e12 a step of 1: seven ticks, none past hi.
+    check_ticks(axis_ticks(1e12, 1e12 + 6, false), {1e12, 1e12 + 1, 1e12 + 2, 1e12 + 3, 1e12 + 4, 1e12 + 5, 1e12 + 6});
+    // A log axis whose lo is a rounding above 1e-5 still has its tick there.
+    check_ticks(axis_ticks(1.0000000000000006e-5, 7e-5, true), {1e-5, 2e-5, 5e-5});
+    // A log axis about one value (2, widened to 1.5 .. 4): 1 to 9 times, as 1, 2, 5 and 1, 3
+    // give one tick each.
+    check_ticks(axis_ticks(1.5, 4.0, true), {2, 3, 4});
+    // A mantissa that rounds to 10 in 3 digits carries into the next power (9.996e7 read
+    // "10e7").
+    CHECK(tick_text(9.9996e7) == "1e8");
+    CHECK(tick_text(9.996e7) == "1e8");
+    CHECK(tick_text(9.994e7) == "9.99e7");
+}

@@ -59,7 +59,7 @@ std::string conditions_of(int width, int height, int threads) {
 
 std::string fixed(double v, int digits) {
     char buffer[64];
-    if (std::isinf(v)) return "inf";
+    if (std::isinf(v)) return v > 0.0 ? "inf" : "-inf";
     std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
     return buffer;
 }

@@ -56,15 +56,21 @@ std::vector<double> axis_ticks(double lo, double hi, bool log) {
                 step = m * magnitude;
                 break;
             }
-        // (at most a dozen; a range a few roundings wide at a large value gives none)
-        const double first = std::ceil(lo / step), count = std::floor(hi * (1.0 + 1e-12) / step) - first;
+        // (at most a dozen; a range a few roundings wide at a large value gives none). The top
+        // tick may be a rounding above hi, by a billionth of a step: a slack relative to hi
+        // would take a whole step more at large values (1e12 to 1e12 + 6 gave 1e12 + 7).
+        if (!(step >= 1e-13 * std::max(std::fabs(lo), std::fabs(hi)))) return ticks;  // (ticks a few hundred roundings apart at least)
+        const double first = std::ceil(lo / step), count = std::floor(hi / step + 1e-9) - first;
         if (!(count >= 0.0 && count <= 12.0)) return ticks;
         for (int k = 0; k <= int(count); ++k) ticks.push_back((first + k) * step == 0.0 ? 0.0 : (first + k) * step);
         return ticks;
     }
     const int first = int(std::floor(std::log10(lo))), last = int(std::ceil(std::log10(hi)));
     const auto inside = [&](double v) { return v >= lo * (1.0 - 1e-12) && v <= hi * (1.0 + 1e-12); };
-    for (const std::vector<double>& mantissas : {std::vector<double>{1, 2, 5}, std::vector<double>{1, 3}}) {
+    // (1 to 9 times: a range within a decade or so, such as about a single value, where the
+    // others give at most one tick; 1.5 to 4 gave none)
+    for (const std::vector<double>& mantissas :
+         {std::vector<double>{1, 2, 5}, std::vector<double>{1, 3}, std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9}}) {
         ticks.clear();
         for (int e = first; e <= last; ++e)
             for (double m : mantissas)
@@ -90,7 +96,8 @@ std::string tick_text_in(double v, bool exponent) {
     if (a != 0.0 && exponent) {
         int e = int(std::floor(std::log10(a)));
         double m = v / std::pow(10.0, e);
-        if (std::fabs(m) >= 9.9995) m /= 10.0, ++e;  // (rounding may carry into the next power)
+        // (rounding to 3 digits may carry into the next power: 9.995 and up print as 10)
+        if (std::fabs(m) >= 9.995) m /= 10.0, ++e;
         std::snprintf(buffer, sizeof buffer, "%.3ge%d", m, e);
         return buffer;
     }

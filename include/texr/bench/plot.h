@@ -28,7 +28,8 @@ struct PlotAxes {
 // Tick values for an axis over [lo, hi] (data values, lo < hi; both > 0 on a log axis): on a
 // linear axis multiples of 1, 2 or 5 times a power of ten, about six of them; on a log axis
 // 1, 2 and 5 times the powers of ten within it, or fewer (1 and 3, then every power of ten,
-// then every second, third, ... power) so that there are at most eight.
+// then every second, third, ... power) so that there are at most eight, and where those give
+// fewer than two, 1 to 9 times (a range about a single value: 1.5 to 4 gives 2, 3, 4).
 std::vector<double> axis_ticks(double lo, double hi, bool log);
 // A tick's text: "0.02", "200", "20000"; from 10^5 on and below 10^-3 as "2e5", "1e-12".
 std::string tick_text(double v);
