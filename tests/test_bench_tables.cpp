@@ -1,0 +1,176 @@
+// What texr bench writes agrees with itself and with the frames it saves: each rate is its
+// row's pixels over its time, each PSNR is the saved frame's against the saved ground truth on
+// the covered pixels, and each target quotes the row it is about. (A mutation-testing round
+// found the bench's arithmetic untested: a rate off by 1000, PSNR over the whole frame, the
+// targets reading another filter's row all passed.)
+#include <doctest/doctest.h>
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "helpers.h"
+#include "texr/bench/metrics.h"
+#include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
+
+using namespace texr;
+using namespace texr::testing;
+
+namespace {
+
+// A CSV file's rows as maps from its header's column names to the cells.
+std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::vector<std::string> columns;
+    std::vector<std::map<std::string, std::string>> rows;
+    const auto split = [](const std::string& text) {
+        std::vector<std::string> cells;
+        std::stringstream s(text);
+        for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+        return cells;
+    };
+    if (std::getline(in, line)) columns = split(line);
+    while (std::getline(in, line)) {
+        const std::vector<std::string> cells = split(line);
+        std::map<std::string, std::string> row;
+        for (std::size_t i = 0; i < columns.size() && i < cells.size(); ++i) row[columns[i]] = cells[i];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+const std::map<std::string, std::string>& row_of(const std::vector<std::map<std::string, std::string>>& rows, const std::string& scene,
+                                                 const std::string& column, const std::string& value) {
+    for (const auto& row : rows)
+        if (row.at("scene") == scene && row.at(column) == value) return row;
+    FAIL("no row for " << scene << " " << value);
+    return rows.front();
+}
+
+double number(const std::map<std::string, std::string>& row, const std::string& column) { return std::stod(row.at(column)); }
+
+// The line of targets.md that starts "| benchmark | goal".
+std::string target_line(const std::string& targets, const std::string& benchmark, const std::string& goal) {
+    const std::size_t at = targets.find("| " + benchmark + " | " + goal);
+    REQUIRE(at != std::string::npos);
+    return targets.substr(at, targets.find('\n', at) - at);
+}
+
+FrameBytes load_png(const std::string& path) {
+    int w = 0, h = 0, channels = 0;
+    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+    REQUIRE(data != nullptr);
+    FrameBytes f{w, h, std::vector<std::uint8_t>(data, data + std::size_t(w) * std::size_t(h) * 3)};
+    stbi_image_free(data);
+    return f;
+}
+
+std::string fixed(double v, int digits) {
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(digits);
+    s << v;
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("texr bench filters and spans: rates, PSNR on the covered pixels, and targets agree with their rows and frames") {
+    const std::string dir = scratch_folder("bench-tables");
+    const RunResult r = run_texr("bench filters spans --quick --threads 1 --size 160x120 --out " + dir);
+    CAPTURE(r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto filters = read_csv(dir + "/filters.csv");
+    const auto spans = read_csv(dir + "/spans.csv");
+    const std::string targets = read_file(dir + "/targets.md");
+    REQUIRE(filters.size() == 16);  // 8 filters on 2 scenes
+    std::map<std::string, std::vector<bool>> coverage;
+    for (const std::string scene : {"plane", "grazing"}) {
+        RenderOptions options;
+        options.width = 160, options.height = 120, options.count_coverage = true;
+        RenderStats stats;
+        const Framebuffer fb = render(load_scene(source_path("models/bench/" + scene + ".scene")), options, stats);
+        for (const std::uint16_t c : fb.coverage) coverage[scene].push_back(c > 0);
+    }
+    for (const auto& row : filters) {
+        CAPTURE(row.at("scene"));
+        CAPTURE(row.at("filter"));
+        // covered Mpixel/s = covered pixels / (ms 1000), each printed rounded
+        const double rate = number(row, "covered_pixels") / (number(row, "frame_ms_median") * 1000.0);
+        CHECK(number(row, "covered_mpix_per_s") == doctest::Approx(rate).epsilon(0.01));
+        // PSNR and SSIM of the saved frame against the saved truth, on the pixels the surface
+        // covers (as the renderer counts them on the scene at this size).
+        const std::string stem = dir + "/filters-" + row.at("scene") + "-";
+        const FrameBytes frame = load_png(stem + row.at("filter") + ".png"), truth = load_png(stem + "truth.png");
+        const std::vector<bool>& covered = coverage.at(row.at("scene"));
+        const std::size_t count = std::size_t(std::count(covered.begin(), covered.end(), true));
+        CHECK(double(count) == number(row, "covered_pixels"));
+        double sum = 0.0;
+        for (std::size_t p = 0; p < covered.size(); ++p)
+            for (int c = 0; covered[p] && c < 3; ++c) {
+                const double d = double(frame.rgb[3 * p + std::size_t(c)]) - double(truth.rgb[3 * p + std::size_t(c)]);
+                sum += d * d;
+            }
+        CHECK(row.at("psnr_db") == fixed(10.0 * std::log10(255.0 * 255.0 * 3.0 * double(count) / sum), 3));
+        CHECK(number(row, "ssim") == doctest::Approx(ssim(frame, truth, covered)).epsilon(1e-4));
+    }
+    // The filters' targets quote the plane's rows: bilinear's and trilinear's rates,
+    // trilinear's and EWA's PSNR, EWA's time over trilinear's.
+    const auto& bilinear = row_of(filters, "plane", "filter", "bilinear");
+    const auto& trilinear = row_of(filters, "plane", "filter", "trilinear");
+    const auto& ewa = row_of(filters, "plane", "filter", "ewa");
+    CHECK(target_line(targets, "filters", "plane, bilinear: >= 120").find("| " + fixed(number(bilinear, "covered_mpix_per_s"), 1) + " Mpx/s |") !=
+          std::string::npos);
+    CHECK(target_line(targets, "filters", "plane, trilinear: >= 70").find("| " + fixed(number(trilinear, "covered_mpix_per_s"), 1) + " Mpx/s |") !=
+          std::string::npos);
+    CHECK(target_line(targets, "filters", "plane, trilinear: PSNR").find("| " + fixed(number(trilinear, "psnr_db"), 2) + " dB |") != std::string::npos);
+    CHECK(target_line(targets, "filters", "plane, EWA: PSNR").find("| " + fixed(number(ewa, "psnr_db"), 2) + " dB |") != std::string::npos);
+    const std::string ratio = target_line(targets, "filters", "plane, EWA: frame time");
+    const double quoted = std::stod(ratio.substr(ratio.find(" | ", ratio.find("trilinear's")) + 3));
+    CHECK(quoted == doctest::Approx(number(ewa, "frame_ms_median") / number(trilinear, "frame_ms_median")).epsilon(0.01));
+    // Spans: the exact mode has no error, the others' largest error is at least their mean,
+    // and the targets quote the adaptive mode's largest error and its time over the fastest
+    // other mode's (affine included).
+    for (const std::string scene : {"plane", "grazing"}) {
+        CAPTURE(scene);
+        std::string fastest;
+        double fastest_ms = INFINITY;
+        for (const auto& row : spans) {
+            if (row.at("scene") != scene) continue;
+            CAPTURE(row.at("mode"));
+            CHECK(number(row, "max_error_texels") >= number(row, "mean_error_texels"));
+            if (row.at("mode") == "exact") CHECK(number(row, "max_error_texels") == 0.0);
+            if (row.at("mode") == "affine") CHECK(number(row, "max_error_texels") > 1.0);  // (the wrong answer, for contrast)
+            if (row.at("mode") != "adaptive" && number(row, "frame_ms_median") < fastest_ms)
+                fastest = row.at("mode"), fastest_ms = number(row, "frame_ms_median");
+        }
+        const auto& adaptive = row_of(spans, scene, "mode", "adaptive");
+        const std::string error = target_line(targets, "spans", scene + ", adaptive: max error");
+        CHECK(std::stod(error.substr(error.find("texel | ") + 8)) == doctest::Approx(number(adaptive, "max_error_texels")).epsilon(0.01));
+        const std::string time = target_line(targets, "spans", scene + ", adaptive: frame time");
+        const std::size_t at = time.find("(affine included) | ") + 20;
+        CHECK(std::stod(time.substr(at)) == doctest::Approx(number(adaptive, "frame_ms_median") / fastest_ms).epsilon(0.02));
+        CHECK(time.find("x " + fastest + " (") != std::string::npos);
+    }
+}
+
+TEST_CASE("texels fetched: trilinear at exactly one texel per pixel reads the base level's 4, not 8") {
+    // The 256-texel checker on a unit square at distance 1, seen at 90 degrees in 512 pixels:
+    // a pixel is a texel, the level of detail 0, one bilinear lookup a pixel.
+    const std::string dir = scratch_folder("texels-at-one");
+    write_text(dir + "/s.scene", "size 512 512\ncamera eye 0 0 1 target 0 0 0 fov 90\ntexture t file " + source_path("models/textures/checker.png") +
+                                     " filter trilinear\nmaterial m texture t\n"
+                                     "quad material m v -0.5 -0.5 0 0 0 v 0.5 -0.5 0 1 0 v 0.5 0.5 0 1 1 v -0.5 0.5 0 0 1\n");
+    const RunResult r = run_texr("render " + dir + "/s.scene -o " + dir + "/o.ppm --stats");
+    CAPTURE(r.output);
+    CHECK(r.output.find("pixels shaded      65536\n") != std::string::npos);
+    CHECK(r.output.find("texels fetched     262144\n") != std::string::npos);
+}
