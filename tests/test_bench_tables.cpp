@@ -141,7 +141,6 @@ TEST_CASE("texr bench filters and spans: rates, PSNR on the covered pixels, and 
     // other mode's (affine included).
     for (const std::string scene : {"plane", "grazing"}) {
         CAPTURE(scene);
-        std::string fastest;
         double fastest_ms = INFINITY;
         for (const auto& row : spans) {
             if (row.at("scene") != scene) continue;
@@ -149,16 +148,21 @@ TEST_CASE("texr bench filters and spans: rates, PSNR on the covered pixels, and 
             CHECK(number(row, "max_error_texels") >= number(row, "mean_error_texels"));
             if (row.at("mode") == "exact") CHECK(number(row, "max_error_texels") == 0.0);
             if (row.at("mode") == "affine") CHECK(number(row, "max_error_texels") > 1.0);  // (the wrong answer, for contrast)
-            if (row.at("mode") != "adaptive" && number(row, "frame_ms_median") < fastest_ms)
-                fastest = row.at("mode"), fastest_ms = number(row, "frame_ms_median");
+            if (row.at("mode") != "adaptive") fastest_ms = std::min(fastest_ms, number(row, "frame_ms_median"));
         }
+        // (times are printed to 1 microsecond: modes that tie there may be the fastest)
+        std::vector<std::string> fastest;
+        for (const auto& row : spans)
+            if (row.at("scene") == scene && row.at("mode") != "adaptive" && number(row, "frame_ms_median") <= fastest_ms + 0.0011)
+                fastest.push_back(row.at("mode"));
         const auto& adaptive = row_of(spans, scene, "mode", "adaptive");
         const std::string error = target_line(targets, "spans", scene + ", adaptive: max error");
         CHECK(std::stod(error.substr(error.find("texel | ") + 8)) == doctest::Approx(number(adaptive, "max_error_texels")).epsilon(0.01));
         const std::string time = target_line(targets, "spans", scene + ", adaptive: frame time");
         const std::size_t at = time.find("(affine included) | ") + 20;
-        CHECK(std::stod(time.substr(at)) == doctest::Approx(number(adaptive, "frame_ms_median") / fastest_ms).epsilon(0.02));
-        CHECK(time.find("x " + fastest + " (") != std::string::npos);
+        CHECK(std::stod(time.substr(at)) == doctest::Approx(number(adaptive, "frame_ms_median") / fastest_ms).epsilon(0.03));
+        const std::string quoted_mode = time.substr(time.find("x ", at) + 2, time.find(" (", at) - time.find("x ", at) - 2);
+        CHECK(std::find(fastest.begin(), fastest.end(), quoted_mode) != fastest.end());
     }
 }
 
