@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -145,4 +146,52 @@ TEST_CASE("plot ticks at their edges: equal ends, steps of ten, ranges about one
     CHECK(tick_text(9.9996e7) == "1e8");
     CHECK(tick_text(9.996e7) == "1e8");
     CHECK(tick_text(9.994e7) == "9.99e7");
+}
+
+TEST_CASE("plot geometry: points at their values (larger y higher), NaN points left out, marks inside, lines in order of x") {
+    PlotAxes axes;
+    axes.title = "t", axes.x_label = "x", axes.y_label = "y", axes.log_x = false, axes.log_y = false, axes.connect = true;
+    axes.marks = {{50.0, "target"}};
+    // Out of order in x, one NaN: three points drawn, a mark above them all.
+    const std::string svg = scatter_svg(axes, {{"a", "p3", 3.0, 30.0}, {"a", "p1", 1.0, 10.0}, {"a", "nan", 4.0, NAN}, {"a", "p2", 2.0, 20.0}});
+    // The plot area is 100 .. 670 across and 50 .. 490 down; the legend's circles are right of it.
+    const std::regex circle("<circle cx=\"([-0-9.]+)\" cy=\"([-0-9.]+)\"");
+    std::vector<std::pair<double, double>> drawn;
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), circle); it != std::sregex_iterator(); ++it)
+        if (std::stod((*it)[1]) < 670.0) drawn.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]));
+    REQUIRE(drawn.size() == 3);  // p3, p1, p2 in the order given
+    CHECK(svg.find("nan") == std::string::npos);  // (the NaN point is left out, not drawn at "nan")
+    const auto [x3, y3] = drawn[0];
+    const auto [x1, y1] = drawn[1];
+    const auto [x2, y2] = drawn[2];
+    // x to the right and y upwards, linearly: equal steps of value are equal steps on screen.
+    CHECK(x1 < x2);
+    CHECK(x2 < x3);
+    CHECK(y1 > y2);
+    CHECK(y2 > y3);
+    CHECK(x2 - x1 == doctest::Approx(x3 - x2).epsilon(0.01));
+    CHECK(y1 - y2 == doctest::Approx(y2 - y3).epsilon(0.01));
+    // The mark at 50, above every point, is inside the plot area and above them.
+    const std::regex mark("<line x1=\"[-0-9.]+\" x2=\"[-0-9.]+\" y1=\"([-0-9.]+)\" y2=\"[-0-9.]+\" stroke=\"#555\" stroke-dasharray");
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m, mark));
+    const double mark_y = std::stod(m[1]);
+    CHECK(mark_y >= 50.0);
+    CHECK(mark_y < y3);
+    // 50 is as far above 30 as 30 above 10: the same screen distance.
+    CHECK(y3 - mark_y == doctest::Approx(y1 - y3).epsilon(0.01));
+    // The series' line goes through the points in order of x.
+    const std::size_t path = svg.find("<path d=\"M");
+    REQUIRE(path != std::string::npos);
+    std::istringstream d(svg.substr(path + 10, svg.find('"', path + 10) - path - 10));
+    std::vector<double> xs;
+    double x = 0, y = 0;
+    std::string step;
+    d >> x >> y;
+    xs.push_back(x);
+    while (d >> step >> y) xs.push_back(std::stod(step.substr(1)));
+    REQUIRE(xs.size() == 3);
+    CHECK(xs[0] == doctest::Approx(x1).epsilon(0.001));
+    CHECK(xs[1] == doctest::Approx(x2).epsilon(0.001));
+    CHECK(xs[2] == doctest::Approx(x3).epsilon(0.001));
 }
