@@ -1355,6 +1355,10 @@ TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.
         CHECK(r.output.find(std::string(name) == "spans" ? "max error <= 1/64 texel              nan texel" : "PSNR >= 35 dB") !=
               std::string::npos);
     }
+    // No pixel read a texel: 0 texels a pixel, not 0 / 0 printed as -nan.
+    const std::string csv = read_file(models + "/out3/filters.csv");
+    CHECK(csv.find("-nan") == std::string::npos);
+    CHECK(csv.find(",0.00\n") != std::string::npos);
 }
 
 TEST_CASE("texr bench --quick writes every benchmark's CSV, table and plot, and an index") {
