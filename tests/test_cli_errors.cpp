@@ -1464,10 +1464,6 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {"v 0 0 0 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:1: ", "not 5 numbers"},
         {"v 0 0 0 1 0 0\nv 1 0 0 0 -0.5 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:2: ", "r, g and b from 0 to 10000"},
         {"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 10001\nf 1 2 3\n", "bad.obj:3: ", "r, g and b from 0 to 10000"},
-        // Numbers tinyobjloader reads otherwise than texr: 0e500 is 0 x 5^500 2^500 = NaN to it
-        // (a colour's NaN turned a whole triangle's red to 0; a position's dropped it, a
-        // normal's made N NaN); an exponent past an int's digits makes it drop every colour;
-        // it splits words at spaces and tabs alone ('1\v0' moved a vertex without a word).
         // A smoothing group is a whole number, on or off (tinyobjloader read '-1', '1.5' and
         // 'yes' as groups of its own choosing, and an empty one as 0).
         {triangle + "s yes\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) is a whole number, on or off, not 'yes'"},
@@ -1475,6 +1471,18 @@ TEST_CASE("bad OBJ lines are refused with the OBJ file and line: numbers, missin
         {triangle + "s 1.5\nf 1 2 3\n", "bad.obj:4: ", "not '1.5'"},
         {triangle + "f 1 2 3\ns\n", "bad.obj:5: ", "a smoothing group (s) is a whole number, on or off, not nothing"},
         {triangle + "s 1 2\nf 1 2 3\n", "bad.obj:4: ", "a smoothing group (s) line holds one group, not '1' and '2'"},
+        // At each bound: a vn of 4 numbers, a vt of none, a corner without its v or with index
+        // 0, a number just past the float maximum, colours told at the first plain v line.
+        {triangle + "vn 0 0 1 5\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "a normal (vn) needs x, y and z"},
+        {triangle + "vt\nf 1/1 2/1 3/1\n", "bad.obj:4: ", "a texture coordinate (vt) needs u (and v)"},
+        {triangle + "vt 0 0\nf 1/1 2/1 /1\n", "bad.obj:5: ", "expected a face corner (v, v/vt, v//vn or v/vt/vn), got '/1'"},
+        {triangle + "f 1 2 0\n", "bad.obj:4: ", "expected a face corner (v, v/vt, v//vn or v/vt/vn), got '0'"},
+        {"v 0 0 0\nv 0 0 0\nv 3.4028236e38 0 0\nf 1 2 3\n", "bad.obj:3: ", "beyond a float's range"},
+        {"v -1 -1 0 1 0 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:2: ", "a vertex without a colour"},
+        // Numbers tinyobjloader reads otherwise than texr: 0e500 is 0 x 5^500 2^500 = NaN to it
+        // (a colour's NaN turned a whole triangle's red to 0; a position's dropped it, a
+        // normal's made N NaN); an exponent past an int's digits makes it drop every colour;
+        // it splits words at spaces and tabs alone ('1\v0' moved a vertex without a word).
         {"v 0 0 0 0e500 0 0\nv 1 0 0 0 1 0\nv 0 1 0 1 1 1\nf 1 2 3\n", "bad.obj:1: ", "reads the number 0 as nan on this v line"},
         {"v 0 0 0\nv 1 0e500 0\nv 0 1 0\nf 1 2 3\n", "bad.obj:2: ", "reads the number 0 as nan on this v line"},
         {triangle + "vn 0e500 0 1\nf 1//1 2//1 3//1\n", "bad.obj:4: ", "reads the number 0 as nan on this vn line"},
