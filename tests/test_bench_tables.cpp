@@ -17,6 +17,7 @@
 
 #include "helpers.h"
 #include "texr/bench/metrics.h"
+#include "texr/raster/span_modes.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 
@@ -174,4 +175,55 @@ TEST_CASE("texels fetched: trilinear at exactly one texel per pixel reads the ba
     CAPTURE(r.output);
     CHECK(r.output.find("pixels shaded      65536\n") != std::string::npos);
     CHECK(r.output.find("texels fetched     262144\n") != std::string::npos);
+}
+
+TEST_CASE("texr bench spans: each error is the larger of |du| W and |dv| H against the exact mode, over the covered pixels") {
+    // The bench scenes with a texture 4 times wider than high, so that an error measured in
+    // the other axis's texels, or as the sum of the two, or averaged over the whole frame,
+    // would be another number.
+    const std::string dir = scratch_folder("bench-span-errors");
+    std::string ppm = "P6\n64 16\n255\n";
+    for (int i = 0; i < 64 * 16 * 3; ++i) ppm += char((i * 37) % 251);
+    write_text(dir + "/wide.ppm", ppm);
+    std::system(("mkdir -p " + dir + "/models/bench").c_str());
+    for (const std::string scene : {"plane", "grazing"}) {
+        std::string text = read_file(source_path("models/bench/" + scene + ".scene"));
+        const std::string file = "../textures/detail.png";
+        REQUIRE(text.find(file) != std::string::npos);
+        text.replace(text.find(file), file.size(), "../../wide.ppm");
+        write_text(dir + "/models/bench/" + scene + ".scene", text);
+    }
+    const RunResult r = run_texr("bench spans --quick --threads 1 --size 64x48 --models " + dir + "/models --out " + dir + "/out");
+    CAPTURE(r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto spans = read_csv(dir + "/out/spans.csv");
+    REQUIRE(spans.size() == 14);  // 7 modes on 2 scenes
+    for (const std::string scene : {"plane", "grazing"}) {
+        CAPTURE(scene);
+        const Scene s = load_scene(dir + "/models/bench/" + scene + ".scene");
+        REQUIRE(s.textures.at(0).image->width() == 64);
+        REQUIRE(s.textures.at(0).image->height() == 16);
+        RenderOptions options;
+        options.width = 64, options.height = 48, options.capture_uv = true, options.span_mode = SpanMode::exact;
+        RenderStats stats;
+        const Framebuffer exact = render(s, options, stats);
+        for (const SpanMode mode : {SpanMode::exact, SpanMode::incremental, SpanMode::affine16, SpanMode::affine, SpanMode::adaptive}) {
+            CAPTURE(span_mode_name(mode));
+            options.span_mode = mode;
+            const Framebuffer f = render(s, options, stats);
+            double largest = 0.0, sum = 0.0, covered = 0.0;
+            for (std::size_t i = 0; i < exact.uv.size(); ++i) {
+                if (!exact.drawn(i)) continue;
+                const double e = std::max(std::fabs(f.uv[i].x - exact.uv[i].x) * 64.0, std::fabs(f.uv[i].y - exact.uv[i].y) * 16.0);
+                largest = std::max(largest, e), sum += e, covered += 1.0;
+            }
+            REQUIRE(covered > 100.0);
+            const auto& row = row_of(spans, scene, "mode", span_mode_name(mode));
+            CHECK(number(row, "covered_pixels") == covered);
+            // (printed to 3 significant digits)
+            CHECK(number(row, "max_error_texels") == doctest::Approx(largest).epsilon(0.002));
+            CHECK(number(row, "mean_error_texels") == doctest::Approx(sum / covered).epsilon(0.002));
+            if (mode == SpanMode::affine) CHECK(largest > 1.0);
+        }
+    }
 }
