@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -226,4 +227,15 @@ TEST_CASE("texr bench spans: each error is the larger of |du| W and |dv| H again
             if (mode == SpanMode::affine) CHECK(largest > 1.0);
         }
     }
+    // The plot draws the exact mode's error of 0 at 1e-12, and says so: its log axis then
+    // spans a few more decades than the errors, not the 300 down to where a 0 would go.
+    const std::string svg = read_file(dir + "/out/spans.svg");
+    CHECK(svg.find(">exact (error 0)<") != std::string::npos);
+    const std::regex tick("<text x=\"94.0\" y=\"[-0-9.]+\" text-anchor=\"end\">([^<]+)</text>");
+    int ticks = 0;
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), tick); it != std::sregex_iterator(); ++it, ++ticks) {
+        CAPTURE((*it)[1]);
+        CHECK(std::stod((*it)[1]) >= 1e-14);
+    }
+    CHECK(ticks >= 2);
 }

@@ -195,3 +195,110 @@ TEST_CASE("plot geometry: points at their values (larger y higher), NaN points l
     CHECK(xs[1] == doctest::Approx(x2).epsilon(0.001));
     CHECK(xs[2] == doctest::Approx(x3).epsilon(0.001));
 }
+
+namespace {
+struct Drawn {
+    double x, y;
+};
+// The centres of the circles drawn for points (left of the legend, which starts at x = 680).
+std::vector<Drawn> point_circles(const std::string& svg) {
+    std::vector<Drawn> drawn;
+    const std::regex circle("<circle cx=\"([-0-9.]+)\" cy=\"([-0-9.]+)\" r=\"5\"");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), circle); it != std::sregex_iterator(); ++it)
+        if (std::stod((*it)[1]) < 680.0) drawn.push_back({std::stod((*it)[1]), std::stod((*it)[2])});
+    return drawn;
+}
+// The y axis's tick texts (right-aligned at x = 94, left of the plot area).
+std::vector<std::string> y_tick_texts(const std::string& svg) {
+    std::vector<std::string> texts;
+    const std::regex tick("<text x=\"94.0\" y=\"[-0-9.]+\" text-anchor=\"end\">([^<]+)</text>");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), tick); it != std::sregex_iterator(); ++it) texts.push_back((*it)[1]);
+    return texts;
+}
+}  // namespace
+
+TEST_CASE("plot margins: 5% of a linear x range each side, a quarter decade at least on a log axis, which stops at 1e-300") {
+    // The plot area is 570 pixels wide (100 .. 670) and 440 high (50 .. 490).
+    PlotAxes axes;
+    axes.title = "t", axes.x_label = "x", axes.y_label = "y", axes.log_x = false, axes.log_y = true;
+    std::string svg = scatter_svg(axes, {{"a", "p1", 1.0, 1.2}, {"a", "p2", 3.0, 1.9}, {"b", "q1", 2.0, 1.5}});
+    std::vector<Drawn> drawn = point_circles(svg);
+    REQUIRE(drawn.size() == 3);
+    // x from 1 to 3, 0.1 of margin each side: 570 * 0.1 / 2.2 pixels from the plot's edges.
+    CHECK(drawn[0].x - 100.0 == doctest::Approx(570.0 * 0.1 / 2.2).epsilon(0.005));
+    CHECK(670.0 - drawn[1].x == doctest::Approx(570.0 * 0.1 / 2.2).epsilon(0.005));
+    // log10 y from log10(1.2) to log10(1.9), less than a decade: a quarter decade each side.
+    const double decades = 0.5 + std::log10(1.9 / 1.2);
+    CHECK(490.0 - drawn[0].y == doctest::Approx(440.0 * 0.25 / decades).epsilon(0.005));
+    CHECK(drawn[1].y - 50.0 == doctest::Approx(440.0 * 0.25 / decades).epsilon(0.005));
+    // ... which takes in 1 and 2, ticked.
+    CHECK(y_tick_texts(svg) == std::vector<std::string>{"1", "2"});
+
+    // An error of 0 is drawn at the axis's floor, 1e-300 (the plot area's bottom edge), and the
+    // axis has ticks up to the largest value; a mark at 0, which a log axis cannot show, is
+    // not drawn.
+    axes.log_x = true;
+    axes.marks = {{1.0 / 64.0, "tolerance"}, {0.0, "zero mark"}};
+    svg = scatter_svg(axes, {{"s", "exact", 1.0, 1e-12}, {"s", "affine", 0.9, 0.19}, {"t", "zero", 1.05, 0.0}});
+    drawn = point_circles(svg);
+    REQUIRE(drawn.size() == 3);
+    CHECK(drawn[2].y == doctest::Approx(490.0));
+    // From 1e-300 to 0.19, and 8% of that range above: 1e-12 lies 12 + log10(0.19) decades
+    // below the largest value, and 0.08 (300 + log10(0.19)) more below the top.
+    CHECK(drawn[0].y - 50.0 == doctest::Approx(440.0 * (std::log10(0.19) + 0.08 * (300.0 + std::log10(0.19)) + 12.0) /
+                                               (1.08 * (300.0 + std::log10(0.19)))).epsilon(0.005));
+    const std::vector<std::string> ticks = y_tick_texts(svg);
+    CHECK(ticks.size() >= 2);
+    CHECK(svg.find(">tolerance<") != std::string::npos);
+    CHECK(svg.find("zero mark") == std::string::npos);
+}
+
+TEST_CASE("plot labels: one too wide for the plot goes to the nearest place of least overlap, and labels set apart get a leader line") {
+    PlotAxes axes;
+    axes.title = "t", axes.x_label = "x", axes.y_label = "y", axes.log_x = false;
+    // 150 characters, wider than the plot: every place sticks out of it, least where the label
+    // is centred on its point; of those places the nearest is just above it.
+    std::string svg = scatter_svg(axes, {{"a", std::string(150, 'w'), 2.0, 5.0}, {"a", "b", 1.0, 4.0}, {"a", "c", 3.0, 6.0}});
+    std::vector<Drawn> drawn = point_circles(svg);
+    REQUIRE(drawn.size() == 3);
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m, std::regex("<text class=\"label\" x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" text-anchor=\"([a-z]+)\"[^>]*>w{150}<")));
+    CHECK(std::stod(m[1]) == doctest::Approx(drawn[0].x));
+    CHECK(std::stod(m[2]) == doctest::Approx(drawn[0].y - 10.0));
+    CHECK(m[3] == "middle");
+    CHECK(svg.find("stroke-width=\"0.7\"") == std::string::npos);  // (no leader line)
+
+    // A crowd of 14 labels about one place: those that could not be put beside their point
+    // (a label's box more than 13 pixels from it; beside, at most 11) have a line from the
+    // point to the box, and the others none.
+    std::vector<PlotPoint> points;
+    for (int i = 0; i < 14; ++i)
+        points.push_back({"s" + std::to_string(i % 3), "label number " + std::to_string(i), 1.0 + 0.01 * i, 5.0 + 0.02 * (i % 5)});
+    points.push_back({"far", "far", 3.0, 9.0});
+    svg = scatter_svg(axes, points);
+    drawn = point_circles(svg);
+    REQUIRE(drawn.size() == points.size());
+    std::vector<Drawn> line_starts;
+    const std::regex line("<line x1=\"([-0-9.]+)\" y1=\"([-0-9.]+)\" x2=\"[-0-9.]+\" y2=\"[-0-9.]+\" stroke=\"[^\"]+\" stroke-width=\"0.7\"");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), line); it != std::sregex_iterator(); ++it)
+        line_starts.push_back({std::stod((*it)[1]), std::stod((*it)[2])});
+    const std::regex label("<text class=\"label\" x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" text-anchor=\"(start|middle|end)\" fill=\"[^\"]+\">([^<]+)</text>");
+    std::size_t i = 0, apart = 0;
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), label); it != std::sregex_iterator(); ++it, ++i) {
+        REQUIRE(i < drawn.size());
+        CAPTURE((*it)[4]);
+        const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), w = plot_label_char_width * double((*it)[4].length());
+        const std::string anchor = (*it)[3];
+        const double x0 = anchor == "start" ? x : anchor == "middle" ? x - w / 2 : x - w;
+        const double dx = std::max({x0 - drawn[i].x, drawn[i].x - (x0 + w), 0.0});
+        const double dy = std::max({(y - 10.0) - drawn[i].y, drawn[i].y - (y + 3.0), 0.0});
+        const bool far = std::hypot(dx, dy) > 13.0;
+        apart += far;
+        bool has_line = false;
+        for (const Drawn& s : line_starts) has_line = has_line || (s.x == doctest::Approx(drawn[i].x) && s.y == doctest::Approx(drawn[i].y));
+        CHECK(has_line == far);
+    }
+    CHECK(i == points.size());
+    CHECK(apart >= 3);  // (the crowd does push some away)
+    CHECK(line_starts.size() == apart);
+}

@@ -220,7 +220,7 @@ std::string scatter_svg(const PlotAxes& axes, const std::vector<PlotPoint>& poin
                "\"/>\n";
     }
     // Labels, in the order of the points: the first place around the point (nearest first)
-    // that overlaps nothing taken and stays in the plot, else the one of least overlap.
+    // that overlaps nothing taken and stays in the plot, else the nearest of least overlap.
     struct Place {
         double dx, dy;
         int anchor;
