@@ -580,6 +580,35 @@ TEST_CASE("OBJ smoothing groups: s off makes faces flat, s N (or on) smooths a g
     CHECK(smooth[2] > 800);
 }
 
+TEST_CASE("OBJ flat faces whose parts' windings cancel (a bow-tie) take the normal of their plane, not +z") {
+    // The bow-tie (0,0,0) (1,0,1) (1,0,0) (0,0,1) in the plane y = 0: its outline crosses
+    // itself at (0.5, 0, 0.5), and its two triangles turn opposite ways with equal areas, so its
+    // vector area is 0. Its fan triangles from the first corner: (1,0,1) x (1,0,0) = (0, 1, 0)
+    // and (1,0,0) x (0,0,1) = (0, -1, 0), equally long; the first is taken. A face of no area
+    // at all (its corners on a line) still takes +z.
+    const std::string dir = testing::scratch_folder("obj-bow-tie");
+    const auto normals = [&](const std::string& text) {
+        testing::write_text(dir + "/f.obj", text);
+        std::vector<glm::vec3> out;
+        for (const Vertex& v : load_obj(dir + "/f.obj", [](const ObjMaterialInfo&) { return 0; }).vertices) out.push_back(v.normal);
+        return out;
+    };
+    const std::string bow_tie = "v 0 0 0\nv 1 0 1\nv 1 0 0\nv 0 0 1\n";
+    for (const std::string flat : {"s off\n", "s 0\n"}) {
+        const std::vector<glm::vec3> n = normals(bow_tie + flat + "f 1 2 3 4\n");
+        REQUIRE(n.size() == 4);
+        for (const glm::vec3& v : n) CHECK(v == glm::vec3(0.0f, 1.0f, 0.0f));
+    }
+    // Scaled and turned: the bow-tie in the plane x = 2, corners (2, 0, 0) (2, 3, 3) (2, 0, 3)
+    // (2, 3, 0), whose vector area is 0 as well: (0, 3, 3) x (0, 0, 3) = (9, 0, 0), so +x.
+    for (const glm::vec3& v : normals("v 2 0 0\nv 2 3 3\nv 2 0 3\nv 2 3 0\ns off\nf 1 2 3 4\n")) CHECK(v == glm::vec3(1.0f, 0.0f, 0.0f));
+    // Corners on a line: no plane, +z.
+    for (const glm::vec3& v : normals("v 0 0 0\nv 1 1 0\nv 2 2 0\nv 3 3 0\ns off\nf 1 2 3 4\n")) CHECK(v == glm::vec3(0.0f, 0.0f, 1.0f));
+    // Smoothed (no s line), the bow-tie adds nothing to its corners' sums: alone, they are +z
+    // as before (a sum of 0 has no direction).
+    for (const glm::vec3& v : normals(bow_tie + "f 1 2 3 4\n")) CHECK(v == glm::vec3(0.0f, 0.0f, 1.0f));
+}
+
 TEST_CASE("cull back on a mirrored object drops the faces facing away, as on the object itself") {
     // A cube seen from outside shows at most 3 faces: at least 3 (6 triangles) face away.
     // Culling them leaves the frame as it is without culling (the depth test hides them), with

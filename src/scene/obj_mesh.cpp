@@ -453,6 +453,22 @@ glm::dvec3 newell_area(const std::vector<glm::vec3>& p) {
     return sum;
 }
 
+// The normal of a flat face (s off) of corners p: its vector area made unit, or where that is
+// 0 (a face whose outline crosses itself so that its parts' windings cancel, such as a bow-tie,
+// or one of no area at all), the normal of its largest fan triangle from the first corner
+// (the first of the largest), which lies across the face's plane; +z where every one is 0.
+glm::vec3 flat_face_normal(const std::vector<glm::vec3>& p, const glm::dvec3& area) {
+    const double length = glm::length(area);
+    if (length > 0.0) return glm::vec3(area / length);  // (as GroupNormals::unit_or_z)
+    glm::dvec3 largest(0.0);
+    double largest_length = 0.0;
+    for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+        const glm::dvec3 c = glm::cross(glm::dvec3(p[i]) - glm::dvec3(p[0]), glm::dvec3(p[i + 1]) - glm::dvec3(p[0]));
+        if (glm::length(c) > largest_length) largest = c, largest_length = glm::length(c);
+    }
+    return largest_length > 0.0 ? glm::vec3(largest / largest_length) : glm::vec3(0.0f, 0.0f, 1.0f);
+}
+
 // A face's triangles, as corner numbers of the face (k - 2 of them for k corners, each
 // turning as the face does). tinyobjloader's own split (asked for with triangulate) goes wrong
 // on concave faces: a quad along its shorter diagonal even where that lies outside, and 5
@@ -746,6 +762,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     std::unordered_map<CornerKey, std::uint32_t, CornerHash> vertex_of;
     vertex_of.reserve(attrib.vertices.size() / 3);
     std::vector<std::uint32_t> flat_vertex;  // by corner of a flat face: its vertex (none: no_vertex)
+    glm::vec3 flat_normal(0.0f);             // a flat face's normal (flat_face_normal)
     constexpr std::uint32_t no_vertex = ~std::uint32_t(0);
     std::vector<int> position_of;  // by mesh vertex: its v index
     // By mesh vertex: the smoothing group whose faces around its position give its normal, or
@@ -782,7 +799,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                 group_normals.add_face(face_number, group, area, corner_count,
                                        [&](std::size_t k) { return std::size_t(indices[face_start + k].vertex_index); });
             else
-                flat_vertex.assign(corner_count, no_vertex);
+                flat_vertex.assign(corner_count, no_vertex), flat_normal = flat_face_normal(corners, area);
             face_triangles(corners, area, face_split);
             for (const std::array<std::size_t, 3>& corner_of : face_split) {
                 std::array<std::uint32_t, 3> triangle{};
@@ -799,7 +816,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         if (vertex == no_vertex) {
                             vertex = std::uint32_t(mesh.vertices.size());
                             mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
-                            mesh.vertices.back().normal = GroupNormals::unit_or_z(area);
+                            mesh.vertices.back().normal = flat_normal;
                             position_of.push_back(idx.vertex_index);
                             normal_from.push_back(0);
                         }
