@@ -320,6 +320,28 @@ TEST_CASE("an OBJ without UVs under a textured material is refused with a clear 
     // Without a texture the same OBJ renders.
     write_text(dir + "/scene.txt", "camera eye 0 0 3\nmesh tri.obj\n");
     CHECK(run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png").exit_code == 0);
+
+    // Faces with vt under a textured material and faces without under an untextured one: the
+    // textured faces have what they need, so it renders (it was refused, naming the textured
+    // material); with the materials the other way round it is refused, naming the textured
+    // material of the faces without vt.
+    const std::string positions = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 2 -1 0\nv 2 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+    write_text(dir + "/two.obj", positions + "usemtl grid\nf 1/1 2/2 3/3 4/4\nusemtl red\nf 2 5 6 3\n");
+    write_text(dir + "/swapped.obj", positions + "usemtl red\nf 1/1 2/2 3/3 4/4\nusemtl grid\nf 2 5 6 3\n");
+    const std::string materials = "texture t file \"" + png + "\"\nmaterial grid texture t\nmaterial red color 1 0 0\ncamera eye 0.5 0 4\n";
+    write_text(dir + "/two.scene", materials + "mesh two.obj\n");
+    RunResult two = run_texr("render " + dir + "/two.scene -o " + dir + "/two.png");
+    CAPTURE(two.output);
+    CHECK(two.exit_code == 0);
+    CHECK(file_exists(dir + "/two.png"));
+    write_text(dir + "/swapped.scene", materials + "mesh swapped.obj\n");
+    two = run_texr("render " + dir + "/swapped.scene -o " + dir + "/swapped.png");
+    CHECK(two.exit_code == 1);
+    CHECK(two.output.find("swapped.scene:5: " + dir + "/swapped.obj has faces without texture coordinates (vt) drawn with material 'grid', "
+                          "which uses texture 't'") != std::string::npos);
+    // `material grid` on the mesh line draws every face with the texture: refused.
+    write_text(dir + "/two.scene", materials + "mesh two.obj material grid\n");
+    CHECK(run_texr("render " + dir + "/two.scene -o " + dir + "/two2.png").exit_code == 1);
 }
 
 TEST_CASE("an output path that cannot be written is refused before the scene is read or rendered") {
@@ -1682,9 +1704,9 @@ TEST_CASE("a continued mesh line: OBJ, .mtl and map_Kd errors at its file name's
         std::string mesh, message;
     };
     for (const Case& k : {Case{"mesh \\\n  lib.obj \\\n  cull back\n", "scene.txt:5: OBJ material 'painted' (map_Kd in " + dir + "/lib.mtl): " + dir + "/gone.png: cannot open image file"},
-                          Case{"mesh \\\n  plain.obj \\\n  cull back \\\n  material tm\n", "scene.txt:7: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
-                          Case{"mesh plain.obj \\\n  material tm \\\n  cull back\n", "scene.txt:5: " + dir + "/plain.obj has faces without texture coordinates (vt), but its material 'tm'"},
-                          Case{"mesh \\\n  lib-plain.obj \\\n  cull back\n", "scene.txt:5: " + dir + "/lib-plain.obj has faces without texture coordinates (vt), but its material 'tex'"}}) {
+                          Case{"mesh \\\n  plain.obj \\\n  cull back \\\n  material tm\n", "scene.txt:7: " + dir + "/plain.obj has faces without texture coordinates (vt) drawn with material 'tm'"},
+                          Case{"mesh plain.obj \\\n  material tm \\\n  cull back\n", "scene.txt:5: " + dir + "/plain.obj has faces without texture coordinates (vt) drawn with material 'tm'"},
+                          Case{"mesh \\\n  lib-plain.obj \\\n  cull back\n", "scene.txt:5: " + dir + "/lib-plain.obj has faces without texture coordinates (vt) drawn with material 'tex'"}}) {
         CAPTURE(k.mesh);
         write_text(dir + "/scene.txt", head + k.mesh);
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");

@@ -743,7 +743,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     same_numbers(path, attrib.texcoords, lines.vt_numbers, lines.vt_lines, 2, "vt");
     Mesh mesh;
     mesh.source = path;
-    mesh.has_uv = !attrib.texcoords.empty();
+    mesh.has_uv = true;  // (until a face without vt)
     mesh.has_colors = lines.colors;
     // One mesh vertex per distinct (position, normal, uv) index triple and smoothing group,
     // numbered in order of first use: a corner with a normal of its own is one vertex whatever
@@ -833,6 +833,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                     triangle[std::size_t(k)] = found->second;
                 }
                 mesh.has_uv = mesh.has_uv && face_has_uv;
+                mesh.triangle_without_uv.push_back(!face_has_uv);
                 mesh.triangles.push_back(triangle);
                 const std::uint32_t n = lines.per_triangle[mesh.triangles.size() - 1];
                 if (usemtl_material[n] < 0) usemtl_material[n] = scene_material(lines.names[n]);
@@ -842,6 +843,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, 0, "OBJ file has no faces");
+    if (mesh.has_uv) mesh.triangle_without_uv = {};
     mesh.material_files = lines.material_files;
 
     // The normals the file does not give (a corner without vn, or a vn of length 0, which has

@@ -614,9 +614,9 @@ private:
     void add_object(Cursor& c, std::size_t at, Mesh mesh, Object object, const std::string& what) {
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
-            if (m.texture >= 0 && !mesh.has_uv)
-                c.fail_at(at, what + " has faces without texture coordinates (vt), but its material " + shown_name(m.name) + " uses texture " +
-                       shown_name(scene_.textures[std::size_t(m.texture)].name));
+            if (m.texture >= 0 && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
+                c.fail_at(at, what + " has faces without texture coordinates (vt) drawn with material " + shown_name(m.name) +
+                                  ", which uses texture " + shown_name(scene_.textures[std::size_t(m.texture)].name));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));

@@ -63,7 +63,10 @@ struct Mesh {
     std::vector<Vertex> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<int> triangle_material;  // per triangle, index into Scene::materials
-    bool has_uv = false, has_normals = false, has_colors = false;
+    bool has_uv = false, has_normals = false, has_colors = false;  // has_uv: every triangle has texture coordinates
+    // Where has_uv is false: per triangle, whether it has none (an OBJ face without vt; empty:
+    // none of the triangles has any).
+    std::vector<bool> triangle_without_uv;
     std::vector<std::string> material_files;  // the .mtl files an OBJ file's mtllib lines read
 };
 
