@@ -724,6 +724,24 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     out = run_texr("explain " + dir + "/scene.txt 16 48").output;
     CHECK(out.find("(the setup moved the triangle's v by +3, whole periods") != std::string::npos);
     CHECK(out.find("In the scene's coordinates u = 0.2578125, v = -2.7578125)") != std::string::npos);
+    // A span mode's (u, v) that differ from u'/q, v'/q are in the same moved coordinates, and
+    // are given in the scene's too: on a tilted quad (affine is wrong there), 100 more in u and
+    // 3 less in v.
+    write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm wrap repeat\n"
+                                   "material m texture t\nquad material m v -2 -2 -1 100 -3 v 2 -2 -3 101 -3 v 2 2 -3 101 -2 v -2 2 -1 100 -2\n");
+    out = run_texr("explain " + dir + "/scene.txt 16 48 --span affine").output;
+    CAPTURE(out);
+    CHECK(out.find("moved the triangle's u by -100 and its v by +3, whole periods") != std::string::npos);
+    const std::size_t given = out.find("--span affine gives this pixel u = "), scene_uv = out.find("those are moved as in step 3: in the scene's coordinates u = ");
+    REQUIRE(given != std::string::npos);
+    REQUIRE(scene_uv != std::string::npos);
+    double u = 0, v = 0, su = 0, sv = 0;
+    REQUIRE(std::sscanf(out.c_str() + given, "--span affine gives this pixel u = %lf, v = %lf", &u, &v) == 2);
+    REQUIRE(std::sscanf(out.c_str() + scene_uv, "those are moved as in step 3: in the scene's coordinates u = %lf, v = %lf", &su, &sv) == 2);
+    CHECK(u > 0.0);
+    CHECK(u < 1.0);
+    CHECK(su - u == doctest::Approx(100.0).epsilon(1e-9));
+    CHECK(sv - v == doctest::Approx(-3.0).epsilon(1e-9));
 }
 
 TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {

@@ -317,7 +317,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
             const double off = std::max(std::fabs(u - exact_u) * w, std::fabs(v - exact_v) * h);
             if (off >= 1e-6) {
                 out += std::string("\n   --span ") + span_mode_name(e.span_mode) +
-                       format(" gives this pixel u = %.10g, v = %.10g instead (%.4g texels off);\n", u, v, off) +
+                       format(" gives this pixel u = %.10g, v = %.10g instead (%.4g texels off);\n", u, v, off);
+                if (e.uv_shift != glm::dvec2(0.0))  // (step 3 gave u'/q, v'/q in both)
+                    out += format("   those are moved as in step 3: in the scene's coordinates u = %.10g, v = %.10g;\n", u + e.uv_shift.x,
+                                  v + e.uv_shift.y);
+                out +=
                        format("   the lookup below reads them, with du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
                               d.dudx, d.dvdx, d.dudy, d.dvdy);
             }
