@@ -13,7 +13,15 @@
 #include <stb_image_write.h>
 #include <zlib.h>
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include "helpers.h"
 #include "texr/core/color.h"
@@ -2562,5 +2570,61 @@ TEST_CASE("a map_Kd line with texture options is refused at its .mtl line, as te
         const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
         CAPTURE(r.output);
         CHECK(r.exit_code == 0);
+    }
+}
+
+TEST_CASE("a render stopped by a signal while it writes its frame leaves no partial file behind") {
+    // texr render writes a 48 MiB frame through a hidden temporary file beside it; as soon as
+    // that file shows up, the process gets SIGTERM (then, in a second round, SIGINT). Where it
+    // was stopped before the rename (killed by the signal, no frame written), the temporary
+    // file must be gone too. The write takes a few tens of milliseconds; a round that misses it
+    // (the render done first) is run again, up to 8 times.
+    const std::string dir = scratch_folder("signal-partial");
+    write_text(dir + "/empty.scene", "size 4 4\nbackground 0.2 0.4 0.6\ntriangle v -1 -1 -5 0 0 v 1 -1 -5 1 0 v 0 1 -5 0 1\n");
+    // The temporary files in the folder (removed, with remove = true: one a round left behind
+    // has been reported, and must not be taken for the next round's).
+    const auto temporaries = [&](bool remove = false) {
+        int count = 0;
+        if (DIR* folder = ::opendir(dir.c_str())) {
+            while (const dirent* entry = ::readdir(folder))
+                if (std::strncmp(entry->d_name, ".texr-", 6) == 0) {
+                    ++count;
+                    if (remove) std::remove((dir + "/" + entry->d_name).c_str());
+                }
+            ::closedir(folder);
+        }
+        return count;
+    };
+    for (const int signal_number : {SIGTERM, SIGINT}) {
+        CAPTURE(signal_number);
+        bool stopped_while_writing = false;
+        for (int round = 0; round < 8 && !stopped_while_writing; ++round) {
+            const std::string frame = dir + "/frame.ppm";
+            std::remove(frame.c_str());
+            temporaries(true);
+            const pid_t child = ::fork();
+            REQUIRE(child >= 0);
+            if (child == 0) {
+                const int null = ::open("/dev/null", O_WRONLY);  // (not freopen: it would flush the parent's buffered output)
+                ::dup2(null, 1), ::dup2(null, 2);
+                ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
+                        static_cast<char*>(nullptr));
+                ::_exit(127);
+            }
+            int status = 0;
+            bool seen = false;
+            const auto start = std::chrono::steady_clock::now();
+            while (::waitpid(child, &status, WNOHANG) == 0) {
+                if (!seen && temporaries() > 0) {
+                    seen = true;
+                    ::kill(child, signal_number);
+                }
+                if (std::chrono::steady_clock::now() - start > std::chrono::seconds(60)) ::kill(child, SIGKILL);
+                std::this_thread::sleep_for(std::chrono::microseconds(100));
+            }
+            stopped_while_writing = seen && WIFSIGNALED(status) && WTERMSIG(status) == signal_number && !file_exists(frame);
+            if (stopped_while_writing) CHECK(temporaries() == 0);
+        }
+        CHECK(stopped_while_writing);
     }
 }

@@ -456,6 +456,7 @@ int run(const std::vector<std::string>& raw_args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    texr::remove_partial_outputs_on_signals();
     const int code = run(std::vector<std::string>(argv + 1, argv + argc));
     // What texr printed (an explanation, a table, help) is lost if standard output could not
     // take it (a full disk, a closed pipe): say so, and fail.

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <climits>
 #include <cstdlib>
@@ -114,6 +115,64 @@ void check_not_an_input(const std::string& requested, const std::vector<std::str
             throw InputError(requested, 0, "cannot write output file: the scene reads it (" + file + "); give another -o");
 }
 
+namespace {
+
+// The temporary files of the writes under way, for the signal handler to remove: a fixed
+// table (a handler may not allocate), each slot's path written before the slot is marked in
+// use. A write that finds every slot taken goes on unlisted.
+struct PartialOutput {
+    std::atomic<bool> in_use{false}, listed{false};
+    char path[PATH_MAX + 1] = {};
+};
+PartialOutput partial_outputs[16];
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler reads these flags");
+
+extern "C" void remove_partial_outputs(int signal_number) {
+    for (PartialOutput& p : partial_outputs)
+        if (p.listed.load(std::memory_order_acquire)) ::unlink(p.path);  // (unlink is async-signal-safe)
+    std::signal(signal_number, SIG_DFL);  // then end as the signal would have
+    std::raise(signal_number);
+}
+
+// Lists `path` while it lives (none if it is too long or every slot is taken).
+class ListedPartialOutput {
+public:
+    explicit ListedPartialOutput(const std::string& path) {
+        if (path.size() > PATH_MAX) return;
+        for (PartialOutput& p : partial_outputs) {
+            bool free = false;
+            if (!p.in_use.compare_exchange_strong(free, true)) continue;
+            std::memcpy(p.path, path.c_str(), path.size() + 1);
+            p.listed.store(true, std::memory_order_release);
+            slot_ = &p;
+            return;
+        }
+    }
+    ~ListedPartialOutput() {
+        if (!slot_) return;
+        slot_->listed.store(false, std::memory_order_release);
+        slot_->in_use.store(false);
+    }
+    ListedPartialOutput(const ListedPartialOutput&) = delete;
+    ListedPartialOutput& operator=(const ListedPartialOutput&) = delete;
+
+private:
+    PartialOutput* slot_ = nullptr;
+};
+
+}  // namespace
+
+void remove_partial_outputs_on_signals() {
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction now{};
+        if (::sigaction(signal_number, nullptr, &now) != 0 || now.sa_handler != SIG_DFL) continue;  // (ignored, or someone's)
+        struct sigaction action{};
+        action.sa_handler = remove_partial_outputs;
+        sigemptyset(&action.sa_mask);
+        ::sigaction(signal_number, &action, nullptr);
+    }
+}
+
 void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes) {
     const std::string path = written_path(requested);
     // A short hidden name in the same folder (so that rename replaces the file in one step),
@@ -122,6 +181,7 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     static std::atomic<unsigned> writes{0};
     const std::string folder = folder_of(path);
     const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
+    const ListedPartialOutput listed(temporary);  // (before the file exists: a signal between would find nothing to remove)
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (!file) {
         const int error = errno;

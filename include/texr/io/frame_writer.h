@@ -1,7 +1,8 @@
 // Writing frames: binary PPM (P6) or PNG, chosen by the file extension, sRGB-encoded.
 // Written atomically: the bytes go to a temporary file beside the target, which is renamed
 // over it only when complete, so a failure never leaves a half-written frame and never
-// destroys the previous one.
+// destroys the previous one (nor does a signal that stops the program, where it calls
+// remove_partial_outputs_on_signals).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -38,5 +39,11 @@ void check_not_an_input(const std::string& requested, const std::vector<std::str
 void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes);
 
 void write_frame(const Framebuffer& fb, const std::string& path);
+
+// For a program (texr's main): on SIGINT, SIGTERM or SIGHUP, the temporary files of the
+// writes under way are removed before the signal ends the process as it would have, so that
+// a render stopped while writing (Ctrl-C) leaves no partial file. Only where the signal's
+// action is still the default; the library alone installs nothing.
+void remove_partial_outputs_on_signals();
 
 }  // namespace texr
