@@ -169,6 +169,17 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("not-a-number", "size 32 abc\n" + good_scene, "scene.txt:1: expected the height, found 'abc'");
     expect_failure("unknown-command", "size 32 24\nsphere 1 2 3\n", "scene.txt:2: unknown command 'sphere'");
     expect_failure("unknown-option", good_scene + "material m colour 1 0 0\n", "scene.txt:5: unknown material option 'colour'");
+    // A number where an option was expected: one too many for the option before it.
+    expect_failure("six-number-vertex", good_scene + "triangle v -1 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
+                   "scene.txt:5: unknown triangle option '0' (expected v, n, c, material, cull, translate, rotate or scale): "
+                   "a number too many for 'v' before it?");
+    expect_failure("four-number-eye", "camera eye 0 0 3 4 target 0 0 0\n" + good_scene,
+                   "scene.txt:1: unknown camera option '4' (expected eye, target, up, fov, near or far): a number too many for 'eye' before it?");
+    expect_failure("two-number-fov", "camera fov 50 60\n" + good_scene, "a number too many for 'fov' before it?");
+    expect_failure("word-not-number", good_scene + "material m color 1 0 0 x\n", "scene.txt:5: unknown material option 'x' (expected color, texture, lighting or vertex_colors)\n");
+    // 'mesh material m': the file name forgotten.
+    expect_failure("mesh-without-file", good_scene + "mesh material red\n",
+                   "scene.txt:5: expected an OBJ file name after 'mesh', found 'material', one of its options (mesh FILE [options])");
     expect_failure("unknown-material", "triangle material nope v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
                    "scene.txt:1: unknown material 'nope'");
     expect_failure("unknown-filter", "texture t file x.png filter fancy\n", "scene.txt:1: unknown filter 'fancy'");

@@ -127,6 +127,21 @@ public:
         return line_.tokens[next_++];
     }
 
+    // Refuses `key`, just read, as an unknown option of `command` (`expected`: its options).
+    // A number there most often belongs to the option before it, which was given too many
+    // (a vertex of six numbers, an eye of four): the message says so, naming that option.
+    [[noreturn]] void unknown_option(const std::string& command, const std::string& key, const std::string& expected) const {
+        std::string message = "unknown " + command + " option " + shown_token(key) + " (expected " + expected + ")";
+        double ignored = 0.0;
+        if (parse_number(key, ignored)) {
+            std::size_t option = mark();
+            while (option > 1 && parse_number(line_.tokens[option - 1], ignored)) --option;
+            if (option > 1 && option < mark())
+                message += ": a number too many for " + shown_token(line_.tokens[option - 1]) + " before it?";
+        }
+        fail(message);
+    }
+
     double number(const std::string& what) {
         const std::string text = word(what);
         double value = 0.0;
@@ -276,7 +291,7 @@ private:
             else if (key == "fov") cam.fov_y_degrees = c.number("the vertical field of view in degrees"), fov_at = c.mark();
             else if (key == "near") cam.near = c.number("the near distance"), near_at = c.mark();
             else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
-            else c.fail("unknown camera option " + shown_token(key) + " (expected eye, target, up, fov, near or far)");
+            else c.unknown_option("camera", key, "eye, target, up, fov, near or far");
         }
         if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
             std::ostringstream given;
@@ -344,7 +359,7 @@ private:
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
             else if (key == "colorspace")
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
-            else c.fail("unknown texture option " + shown_token(key) + " (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy)");
+            else c.unknown_option("texture", key, "file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy");
         }
         if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH'");
         t.image = image(c, file_at, t.path, space);
@@ -414,7 +429,7 @@ private:
                 m.lighting = choose<Lighting>(c, "lighting", {{"none", Lighting::none}, {"lambert", Lighting::lambert}});
             else if (key == "vertex_colors")
                 m.vertex_colors = choose<bool>(c, "vertex_colors setting", {{"on", true}, {"off", false}});
-            else c.fail("unknown material option " + shown_token(key) + " (expected color, texture, lighting or vertex_colors)");
+            else c.unknown_option("material", key, "color, texture, lighting or vertex_colors");
         }
         material_index_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
@@ -432,7 +447,7 @@ private:
             const std::string key = c.word("a light option");
             c.once(key);
             if (key == "color") l.color = c.color("light colour");
-            else c.fail("unknown light option " + shown_token(key) + " (expected color)");
+            else c.unknown_option("light", key, "color");
         }
         scene_.lights.push_back(l);
     }
@@ -477,15 +492,20 @@ private:
     }
 
     void mesh(Cursor& c) {
-        const std::string path = relative_to(folder_, c.word("an OBJ file name"));
+        const std::string given = c.word("an OBJ file name");
+        const std::string path = relative_to(folder_, given);
         const std::size_t path_at = c.mark();  // OBJ, .mtl and map_Kd errors are reported at its line
+        // 'mesh material m', the file forgotten: say that, not that 'm' is no mesh option.
+        for (const char* option : {"material", "cull", "translate", "rotate", "scale"})
+            if (given == option && !std::ifstream(path))
+                c.fail("expected an OBJ file name after 'mesh', found " + shown_token(given) + ", one of its options (mesh FILE [options])");
         Object object;
         int material = -1;
         std::size_t material_at = 0;
         while (!c.done()) {
             const std::string key = c.word("a mesh option");
             if (!object_option(c, key, object, material, material_at))
-                c.fail("unknown mesh option " + shown_token(key) + " (expected material, cull, translate, rotate or scale)");
+                c.unknown_option("mesh", key, "material, cull, translate, rotate or scale");
         }
         // Each OBJ material is the scene material of the same name, else made from its .mtl.
         bool resolver_failed = false;  // its messages already name this line
@@ -580,7 +600,7 @@ private:
                     mesh.has_colors = true, ++colors_given;
                 }
             } else if (!object_option(c, key, object, material, material_at)) {
-                c.fail("unknown " + what + " option " + shown_token(key) + " (expected v, n, c, material, cull, translate, rotate or scale)");
+                c.unknown_option(what, key, "v, n, c, material, cull, translate, rotate or scale");
             }
         }
         if (int(mesh.vertices.size()) != corners)
