@@ -1803,6 +1803,14 @@ TEST_CASE("texr explain prints HDR values near the float maximum in 6 significan
     CHECK(signed_zero.find("    material colour (0.00000, 1.00000, 1.00000)\n    x texture       (1.00000, 0.50000, 0.25000)\n"
                            "    = (0.00000, 0.50000, 0.25000)\n") != std::string::npos);
     CHECK(signed_zero.find("-0.00000") == std::string::npos);
+    // 'colorspace srgb' asked of an HDR image, whose values are linear, is refused at that word
+    // (on the next line here); 'colorspace linear' says what it is, and is read.
+    write_text(dir + "/srgb.txt", "size 8 8\ntexture t file small.hdr \\\n  colorspace srgb\nmaterial m texture t\n"
+                                  "quad material m v -2 -2 0 0 0 v 2 -2 0 1 0 v 2 2 0 1 1 v -2 2 0 0 1\n");
+    RunResult r = run_texr("render " + dir + "/srgb.txt -o " + dir + "/srgb.png");
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "texr: " + dir + "/srgb.txt:3: a Radiance HDR image holds linear values: 'colorspace srgb' does not apply to it (leave it out)\n");
+    CHECK(explain("small.hdr colorspace linear").find("(1.00000, 0.50000, 0.25000, 1.00000)") != std::string::npos);
 }
 
 TEST_CASE("a Radiance .hdr with run-length rows is read, and one cut short inside its rows is refused, not read for ever") {

@@ -324,7 +324,7 @@ private:
         define_once(c, "texture " + shown_name(t.name));
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
-        std::size_t file_at = 0;
+        std::size_t file_at = 0, srgb_at = 0;  // srgb_at: where 'colorspace srgb' was written (0: not)
         while (!c.done()) {
             const std::string key = c.word("a texture option");
             c.once(key);
@@ -357,12 +357,16 @@ private:
                 t.sampler.border.w = float(alpha);
             } else if (key == "registration")
                 t.sampler.registration = choose<Registration>(c, "registration", {{"cell", Registration::cell}, {"node", Registration::node}});
-            else if (key == "colorspace")
+            else if (key == "colorspace") {
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
+                srgb_at = space == ColorSpace::srgb ? c.mark() : 0;
+            }
             else c.unknown_option("texture", key, "file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy");
         }
         if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH'");
         t.image = image(c, file_at, t.path, space);
+        if (srgb_at && t.image->is_hdr())  // (asked for, it would be ignored)
+            c.fail_at(srgb_at, "a Radiance HDR image holds linear values: 'colorspace srgb' does not apply to it (leave it out)");
         // The border colour is in the texels' space: sRGB for a colour image (decoded, as every
         // scene colour), the values themselves for data and HDR images, whose texels are read
         // as they are (a normal map's border 0.5 0.5 1 is the normal (0, 0, 1)).
