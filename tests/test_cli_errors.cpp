@@ -16,6 +16,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -176,10 +177,22 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("four-number-eye", "camera eye 0 0 3 4 target 0 0 0\n" + good_scene,
                    "scene.txt:1: unknown camera option '4' (expected eye, target, up, fov, near or far): a number too many for 'eye' before it?");
     expect_failure("two-number-fov", "camera fov 50 60\n" + good_scene, "a number too many for 'fov' before it?");
+    // Several: too many, or the name of the option they belong to left out ('target').
+    expect_failure("eye-then-numbers", "camera eye 0 0 3 0 0 0\n" + good_scene,
+                   "scene.txt:1: unknown camera option '0' (expected eye, target, up, fov, near or far): numbers too many for 'eye' before "
+                   "them, or an option's name missing?");
     expect_failure("word-not-number", good_scene + "material m color 1 0 0 x\n", "scene.txt:5: unknown material option 'x' (expected color, texture, lighting or vertex_colors)\n");
     // 'mesh material m': the file name forgotten.
     expect_failure("mesh-without-file", good_scene + "mesh material red\n",
                    "scene.txt:5: expected an OBJ file name after 'mesh', found 'material', one of its options (mesh FILE [options])");
+    {  // (a folder of that name beside the scene is no OBJ file either)
+        const std::string dir = scratch_folder("mesh-without-file-folder");
+        std::system(("mkdir " + dir + "/material").c_str());
+        write_text(dir + "/scene.txt", good_scene + "mesh material red\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("expected an OBJ file name after 'mesh', found 'material'") != std::string::npos);
+    }
     expect_failure("unknown-material", "triangle material nope v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
                    "scene.txt:1: unknown material 'nope'");
     expect_failure("unknown-filter", "texture t file x.png filter fancy\n", "scene.txt:1: unknown filter 'fancy'");
@@ -2646,4 +2659,25 @@ TEST_CASE("a render stopped by a signal while it writes its frame leaves no part
         }
         CHECK(stopped_while_writing);
     }
+    // A file size limit of 1 MiB stops the same write with SIGXFSZ, at the limit: every time.
+    const std::string frame = dir + "/frame.ppm";
+    std::remove(frame.c_str());
+    temporaries(true);
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, 1), ::dup2(null, 2);
+        const rlimit limit{1 << 20, 1 << 20};
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+        ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
+                static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(child, &status, 0) == child);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == SIGXFSZ);
+    CHECK_FALSE(file_exists(frame));
+    CHECK(temporaries() == 0);
 }

@@ -602,6 +602,19 @@ TEST_CASE("OBJ flat faces whose parts' windings cancel (a bow-tie) take the norm
     // Scaled and turned: the bow-tie in the plane x = 2, corners (2, 0, 0) (2, 3, 3) (2, 0, 3)
     // (2, 3, 0), whose vector area is 0 as well: (0, 3, 3) x (0, 0, 3) = (9, 0, 0), so +x.
     for (const glm::vec3& v : normals("v 2 0 0\nv 2 3 3\nv 2 0 3\nv 2 3 0\ns off\nf 1 2 3 4\n")) CHECK(v == glm::vec3(1.0f, 0.0f, 0.0f));
+    // A bow-tie across a tilted plane, with corners A, A + u + v, A + u, A + v that floats do
+    // not hold exactly: its vector area is not quite 0 (rounding), but far below its fan's
+    // area. Its plane's normal is u x v = (0.1, 0.2, 0.3) x (0.3, -0.1, 0.2) = (0.07, 0.07,
+    // -0.07); its two fan triangles face either way, as long as each other but for rounding.
+    for (const glm::dvec3 a : {glm::dvec3(0.0), glm::dvec3(10.1, 3.3, -7.7)}) {
+        const auto corner = [&](double x, double y, double z) {
+            return "v " + std::to_string(a.x + x) + " " + std::to_string(a.y + y) + " " + std::to_string(a.z + z) + "\n";
+        };
+        const std::vector<glm::vec3> n =
+            normals(corner(0, 0, 0) + corner(0.4, 0.1, 0.5) + corner(0.1, 0.2, 0.3) + corner(0.3, -0.1, 0.2) + "s off\nf 1 2 3 4\n");
+        REQUIRE(n.size() == 4);
+        for (const glm::vec3& v : n) CHECK(std::fabs(glm::dot(glm::dvec3(v), glm::dvec3(1.0, 1.0, -1.0) / std::sqrt(3.0))) == doctest::Approx(1.0).epsilon(1e-5));
+    }
     // Corners on a line: no plane, +z.
     for (const glm::vec3& v : normals("v 0 0 0\nv 1 1 0\nv 2 2 0\nv 3 3 0\ns off\nf 1 2 3 4\n")) CHECK(v == glm::vec3(0.0f, 0.0f, 1.0f));
     // Smoothed (no s line), the bow-tie adds nothing to its corners' sums: alone, they are +z

@@ -118,23 +118,40 @@ void check_not_an_input(const std::string& requested, const std::vector<std::str
 namespace {
 
 // The temporary files of the writes under way, for the signal handler to remove: a fixed
-// table (a handler may not allocate), each slot's path written before the slot is marked in
-// use. A write that finds every slot taken goes on unlisted.
+// table (a handler may not allocate). A slot's path is written between two steps of its
+// sequence number (odd while it changes), and the handler unlinks a copy only if the number
+// was even and the same before and after it took the copy, so that it never unlinks a path
+// half overwritten by a write in another thread. A write that finds every slot taken goes on
+// unlisted; one that starts while the handler runs (another thread) makes no file.
 struct PartialOutput {
     std::atomic<bool> in_use{false}, listed{false};
+    std::atomic<unsigned> sequence{0};
     char path[PATH_MAX + 1] = {};
 };
 PartialOutput partial_outputs[16];
-static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler reads these flags");
+std::atomic<bool> stopping{false};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<unsigned>::is_always_lock_free,
+              "the signal handler reads these");
 
 extern "C" void remove_partial_outputs(int signal_number) {
-    for (PartialOutput& p : partial_outputs)
-        if (p.listed.load(std::memory_order_acquire)) ::unlink(p.path);  // (unlink is async-signal-safe)
+    stopping.store(true);
+    char copy[PATH_MAX + 1];
+    for (PartialOutput& p : partial_outputs) {
+        if (!p.listed.load(std::memory_order_acquire)) continue;
+        const unsigned before = p.sequence.load(std::memory_order_acquire);
+        if (before % 2 != 0) continue;
+        std::memcpy(copy, p.path, sizeof copy);  // (memcpy is async-signal-safe)
+        std::atomic_thread_fence(std::memory_order_acquire);
+        if (p.sequence.load(std::memory_order_relaxed) == before && p.listed.load(std::memory_order_relaxed)) {
+            copy[PATH_MAX] = '\0';
+            ::unlink(copy);  // (unlink is async-signal-safe)
+        }
+    }
     std::signal(signal_number, SIG_DFL);  // then end as the signal would have
     std::raise(signal_number);
 }
 
-// Lists `path` while it lives (none if it is too long or every slot is taken).
+// Lists `path` while it lives (not if it is too long or every slot is taken).
 class ListedPartialOutput {
 public:
     explicit ListedPartialOutput(const std::string& path) {
@@ -142,7 +159,10 @@ public:
         for (PartialOutput& p : partial_outputs) {
             bool free = false;
             if (!p.in_use.compare_exchange_strong(free, true)) continue;
+            p.sequence.fetch_add(1);  // odd: changing
+            std::atomic_thread_fence(std::memory_order_release);
             std::memcpy(p.path, path.c_str(), path.size() + 1);
+            p.sequence.fetch_add(1, std::memory_order_release);  // even again
             p.listed.store(true, std::memory_order_release);
             slot_ = &p;
             return;
@@ -163,7 +183,10 @@ private:
 }  // namespace
 
 void remove_partial_outputs_on_signals() {
-    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    // The signals whose default action ends the process and that a process can catch:
+    // hang-up, Ctrl-C, Ctrl-\, kill's default, a closed pipe, file size and CPU time limits,
+    // an alarm, the user signals.
+    for (const int signal_number : {SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGPIPE, SIGXFSZ, SIGXCPU, SIGALRM, SIGUSR1, SIGUSR2}) {
         struct sigaction now{};
         if (::sigaction(signal_number, nullptr, &now) != 0 || now.sa_handler != SIG_DFL) continue;  // (ignored, or someone's)
         struct sigaction action{};
@@ -182,6 +205,7 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     const std::string folder = folder_of(path);
     const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
     const ListedPartialOutput listed(temporary);  // (before the file exists: a signal between would find nothing to remove)
+    if (stopping.load()) throw InputError(requested, 0, "cannot write output file: texr is being stopped by a signal");
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (!file) {
         const int error = errno;

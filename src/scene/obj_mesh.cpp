@@ -453,19 +453,24 @@ glm::dvec3 newell_area(const std::vector<glm::vec3>& p) {
     return sum;
 }
 
-// The normal of a flat face (s off) of corners p: its vector area made unit, or where that is
-// 0 (a face whose outline crosses itself so that its parts' windings cancel, such as a bow-tie,
-// or one of no area at all), the normal of its largest fan triangle from the first corner
-// (the first of the largest), which lies across the face's plane; +z where every one is 0.
+// The normal of a flat face (s off) of corners p: its vector area made unit, or, where that
+// area is below 1e-4 of the sum of its fan triangles' areas (from the first corner), the
+// normal of the largest of those triangles (the first of equal ones), which lies across the
+// face's plane; +z where every one is 0. The second case is a face whose outline crosses
+// itself so that its parts' windings cancel, such as a bow-tie: its vector area is 0 but for
+// the rounding of its corners, whose direction would be noise (tens of degrees off the plane's
+// normal for corners written to 6 decimals).
 glm::vec3 flat_face_normal(const std::vector<glm::vec3>& p, const glm::dvec3& area) {
-    const double length = glm::length(area);
-    if (length > 0.0) return glm::vec3(area / length);  // (as GroupNormals::unit_or_z)
     glm::dvec3 largest(0.0);
-    double largest_length = 0.0;
+    double largest_length = 0.0, fan = 0.0;
     for (std::size_t i = 1; i + 1 < p.size(); ++i) {
         const glm::dvec3 c = glm::cross(glm::dvec3(p[i]) - glm::dvec3(p[0]), glm::dvec3(p[i + 1]) - glm::dvec3(p[0]));
-        if (glm::length(c) > largest_length) largest = c, largest_length = glm::length(c);
+        const double length = glm::length(c);
+        fan += length;
+        if (length > largest_length) largest = c, largest_length = length;
     }
+    const double length = glm::length(area);
+    if (length > 0.0 && !(length < 1e-4 * fan)) return glm::vec3(area / length);  // (as GroupNormals::unit_or_z)
     return largest_length > 0.0 ? glm::vec3(largest / largest_length) : glm::vec3(0.0f, 0.0f, 1.0f);
 }
 

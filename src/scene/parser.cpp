@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include <sys/stat.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "texr/core/error.h"
@@ -136,8 +138,12 @@ public:
         if (parse_number(key, ignored)) {
             std::size_t option = mark();
             while (option > 1 && parse_number(line_.tokens[option - 1], ignored)) --option;
+            std::size_t more = mark() + 1;  // the numbers from key on
+            while (more < line_.tokens.size() && parse_number(line_.tokens[more], ignored)) ++more;
             if (option > 1 && option < mark())
-                message += ": a number too many for " + shown_token(line_.tokens[option - 1]) + " before it?";
+                message += more - mark() == 1 ? ": a number too many for " + shown_token(line_.tokens[option - 1]) + " before it?"
+                                              : ": numbers too many for " + shown_token(line_.tokens[option - 1]) +
+                                                    " before them, or an option's name missing?";
         }
         fail(message);
     }
@@ -501,7 +507,7 @@ private:
         const std::size_t path_at = c.mark();  // OBJ, .mtl and map_Kd errors are reported at its line
         // 'mesh material m', the file forgotten: say that, not that 'm' is no mesh option.
         for (const char* option : {"material", "cull", "translate", "rotate", "scale"})
-            if (given == option && !std::ifstream(path))
+            if (struct stat file{}; given == option && !(::stat(path.c_str(), &file) == 0 && S_ISREG(file.st_mode)))
                 c.fail("expected an OBJ file name after 'mesh', found " + shown_token(given) + ", one of its options (mesh FILE [options])");
         Object object;
         int material = -1;

@@ -40,10 +40,11 @@ void write_file_atomically(const std::string& path, const std::vector<std::uint8
 
 void write_frame(const Framebuffer& fb, const std::string& path);
 
-// For a program (texr's main): on SIGINT, SIGTERM or SIGHUP, the temporary files of the
-// writes under way are removed before the signal ends the process as it would have, so that
-// a render stopped while writing (Ctrl-C) leaves no partial file. Only where the signal's
-// action is still the default; the library alone installs nothing.
+// For a program (texr's main): on a signal that would end the process and can be caught
+// (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGXFSZ, ...), the temporary files of the writes
+// under way are removed before the signal ends the process as it would have, so that a render
+// stopped while writing (Ctrl-C) leaves no partial file. Only where the signal's action is
+// still the default; the library alone installs nothing. (SIGKILL cannot be caught.)
 void remove_partial_outputs_on_signals();
 
 }  // namespace texr
