@@ -2627,22 +2627,29 @@ TEST_CASE("a render stopped by a signal while it writes its frame leaves no part
         }
         return count;
     };
+    // Starts texr render writing `frame` (with file_size_limit > 0, under that limit): its pid.
+    const std::string frame = dir + "/frame.ppm";
+    const auto start_render = [&](rlim_t file_size_limit) {
+        std::remove(frame.c_str());
+        temporaries(true);
+        const pid_t child = ::fork();
+        REQUIRE(child >= 0);
+        if (child == 0) {
+            const int null = ::open("/dev/null", O_WRONLY);  // (not freopen: it would flush the parent's buffered output)
+            ::dup2(null, 1), ::dup2(null, 2);
+            const rlimit limit{file_size_limit, file_size_limit};
+            if (file_size_limit > 0) ::setrlimit(RLIMIT_FSIZE, &limit);
+            ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
+                    static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+        return child;
+    };
     for (const int signal_number : {SIGTERM, SIGINT}) {
         CAPTURE(signal_number);
         bool stopped_while_writing = false;
         for (int round = 0; round < 8 && !stopped_while_writing; ++round) {
-            const std::string frame = dir + "/frame.ppm";
-            std::remove(frame.c_str());
-            temporaries(true);
-            const pid_t child = ::fork();
-            REQUIRE(child >= 0);
-            if (child == 0) {
-                const int null = ::open("/dev/null", O_WRONLY);  // (not freopen: it would flush the parent's buffered output)
-                ::dup2(null, 1), ::dup2(null, 2);
-                ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
-                        static_cast<char*>(nullptr));
-                ::_exit(127);
-            }
+            const pid_t child = start_render(0);
             int status = 0;
             bool seen = false;
             const auto start = std::chrono::steady_clock::now();
@@ -2660,20 +2667,7 @@ TEST_CASE("a render stopped by a signal while it writes its frame leaves no part
         CHECK(stopped_while_writing);
     }
     // A file size limit of 1 MiB stops the same write with SIGXFSZ, at the limit: every time.
-    const std::string frame = dir + "/frame.ppm";
-    std::remove(frame.c_str());
-    temporaries(true);
-    const pid_t child = ::fork();
-    REQUIRE(child >= 0);
-    if (child == 0) {
-        const int null = ::open("/dev/null", O_WRONLY);
-        ::dup2(null, 1), ::dup2(null, 2);
-        const rlimit limit{1 << 20, 1 << 20};
-        ::setrlimit(RLIMIT_FSIZE, &limit);
-        ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
-                static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
+    const pid_t child = start_render(1 << 20);
     int status = 0;
     REQUIRE(::waitpid(child, &status, 0) == child);
     CHECK(WIFSIGNALED(status));
