@@ -123,29 +123,30 @@ namespace {
 // was even and the same before and after it took the copy, so that it never unlinks a path
 // half overwritten by a write in another thread. A write that finds every slot taken goes on
 // unlisted; one that starts while the handler runs (another thread) makes no file.
+// (Every access is a sequentially consistent atomic, the path's characters too: a path is
+// written once a file, and read only by the handler.)
 struct PartialOutput {
     std::atomic<bool> in_use{false}, listed{false};
     std::atomic<unsigned> sequence{0};
-    char path[PATH_MAX + 1] = {};
+    std::atomic<char> path[PATH_MAX + 1] = {};
 };
 PartialOutput partial_outputs[16];
 std::atomic<bool> stopping{false};
-static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<unsigned>::is_always_lock_free,
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<unsigned>::is_always_lock_free &&
+                  std::atomic<char>::is_always_lock_free,
               "the signal handler reads these");
 
 extern "C" void remove_partial_outputs(int signal_number) {
     stopping.store(true);
     char copy[PATH_MAX + 1];
     for (PartialOutput& p : partial_outputs) {
-        if (!p.listed.load(std::memory_order_acquire)) continue;
-        const unsigned before = p.sequence.load(std::memory_order_acquire);
+        if (!p.listed.load()) continue;
+        const unsigned before = p.sequence.load();
         if (before % 2 != 0) continue;
-        std::memcpy(copy, p.path, sizeof copy);  // (memcpy is async-signal-safe)
-        std::atomic_thread_fence(std::memory_order_acquire);
-        if (p.sequence.load(std::memory_order_relaxed) == before && p.listed.load(std::memory_order_relaxed)) {
-            copy[PATH_MAX] = '\0';
-            ::unlink(copy);  // (unlink is async-signal-safe)
-        }
+        std::size_t i = 0;
+        while (i < PATH_MAX && (copy[i] = p.path[i].load()) != '\0') ++i;
+        copy[i] = '\0';
+        if (p.sequence.load() == before && p.listed.load()) ::unlink(copy);  // (unlink is async-signal-safe)
     }
     std::signal(signal_number, SIG_DFL);  // then end as the signal would have
     std::raise(signal_number);
@@ -160,17 +161,16 @@ public:
             bool free = false;
             if (!p.in_use.compare_exchange_strong(free, true)) continue;
             p.sequence.fetch_add(1);  // odd: changing
-            std::atomic_thread_fence(std::memory_order_release);
-            std::memcpy(p.path, path.c_str(), path.size() + 1);
-            p.sequence.fetch_add(1, std::memory_order_release);  // even again
-            p.listed.store(true, std::memory_order_release);
+            for (std::size_t i = 0; i <= path.size(); ++i) p.path[i].store(path.c_str()[i]);
+            p.sequence.fetch_add(1);  // even again
+            p.listed.store(true);
             slot_ = &p;
             return;
         }
     }
     ~ListedPartialOutput() {
         if (!slot_) return;
-        slot_->listed.store(false, std::memory_order_release);
+        slot_->listed.store(false);
         slot_->in_use.store(false);
     }
     ListedPartialOutput(const ListedPartialOutput&) = delete;
