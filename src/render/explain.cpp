@@ -321,8 +321,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                 if (e.uv_shift != glm::dvec2(0.0))  // (step 3 gave u'/q, v'/q in both)
                     out += format("   those are moved as in step 3: in the scene's coordinates u = %.10g, v = %.10g;\n", u + e.uv_shift.x,
                                   v + e.uv_shift.y);
-                out +=
-                       format("   the lookup below reads them, with du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
+                out += format("   the lookup below reads them, with du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
                               d.dudx, d.dvdx, d.dudy, d.dvdy);
             }
         }
