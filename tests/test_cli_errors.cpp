@@ -774,6 +774,47 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     CHECK(u < 1.0);
     CHECK(su - u == doctest::Approx(100.0).epsilon(1e-9));
     CHECK(sv - v == doctest::Approx(-3.0).epsilon(1e-9));
+    // Step 2's rows are of the moved UVs, and it says so.
+    CHECK(out.find("(U holds the corners' u and v moved by whole periods, u by -100 and v by +3: step 3 says why)") != std::string::npos);
+    // The screen vertices are printed exactly: multiples of 1/256.
+    for (const char* name : {"    v0 = (", "    v1 = (", "    v2 = ("}) {
+        const std::size_t at = out.find(name);
+        REQUIRE(at != std::string::npos);
+        double x = 0, y = 0;
+        REQUIRE(std::sscanf(out.c_str() + at + std::strlen(name), "%lf, %lf", &x, &y) == 2);
+        CHECK(x * 256.0 == std::floor(x * 256.0));
+        CHECK(y * 256.0 == std::floor(y * 256.0));
+    }
+}
+
+TEST_CASE("texr explain tells border wrap's registrations apart: the slide's border colour (node), or texels beyond the edge blended (cell)") {
+    // A 2 x 2 texture on a quad whose u runs from -0.5 to 1.5: the left quarter of the frame
+    // lies at u < 0. With node registration (the slide's test) a pixel there is the border
+    // colour; with cell registration (OpenGL's) texels beyond the edge are, and bilinear blends
+    // them with the texels inside it reaches.
+    const std::string dir = scratch_folder("explain-border");
+    write_text(dir + "/t.ppm", std::string("P6\n2 2\n255\n") + std::string(12, char(255)));
+    const auto explain = [&](const std::string& registration, int x) {
+        write_text(dir + "/scene.txt", "size 64 64\ncamera eye 0 0 1 target 0 0 0 fov 90\ntexture t file t.ppm wrap border border 0 0 0 1 "
+                                       "registration " + registration + "\nmaterial m texture t\n"
+                                       "quad material m v -1 -1 0 -0.5 0 v 1 -1 0 1.5 0 v 1 1 0 1.5 1 v -1 1 0 -0.5 1\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt " + std::to_string(x) + " 32");
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        return r.output;
+    };
+    // Pixel 4: u = -0.5 + 2 (4.5 / 64) = -0.359, far outside: black either way. Pixel 15:
+    // u = -0.016, within half a texel (1/4) of the edge: black for node, half grey for cell.
+    std::string out = explain("node", 15);
+    CHECK(out.find("(outside [0, 1]: the border colour)\n") != std::string::npos);
+    CHECK(out.find("the filter's value, linear RGBA: (0.00000, 0.00000, 0.00000, 1.00000)") != std::string::npos);
+    out = explain("cell", 15);
+    CHECK(out.find("(outside [0, 1]: texels beyond the image's edge are the border colour,\n"
+                   "    which the filter blends with the texels inside it reaches, as OpenGL does)\n") != std::string::npos);
+    CHECK(out.find("(outside [0, 1]: the border colour)") == std::string::npos);
+    // x = u resU - 1/2 = -0.531: 0.469 of texel 0 (white) and 0.531 of the border (black).
+    CHECK(out.find("the filter's value, linear RGBA: (0.46875, 0.46875, 0.46875, 1.00000)") != std::string::npos);
+    CHECK(explain("cell", 4).find("the filter's value, linear RGBA: (0.00000, 0.00000, 0.00000, 1.00000)") != std::string::npos);
 }
 
 TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {

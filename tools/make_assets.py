@@ -59,7 +59,8 @@ def detail(i, j, size=1024):
 
 
 def write_torus(path, major=1.0, minor=0.4, segments=48, rings=24):
-    """A parametric surface for the demo (the lecture's are the disc, cylinder and sphere):
+    """A parametric surface for the demo (the lecture's are the disc, cylinder, sphere,
+    triangle and triangle mesh):
     a torus meshed at (phi, theta) = (2 pi u, 2 pi v)."""
     lines = ["# torus, R = %g, r = %g; u around the axis, v around the tube" % (major, minor)]
     for a in range(segments + 1):

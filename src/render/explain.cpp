@@ -56,7 +56,8 @@ const char* wrap_name(Wrap w) {
 }
 
 // The mip levels the texture's filter reads at this pixel, worked out as the samplers do
-// (minify.h, ewa.h), with lambda the level of detail of the lecture's formula.
+// (minify.h, ewa.h), with lambda the level of detail (texr's, as OpenGL's: log2 of the longer
+// derivative vector's length in texels; the lecture has no formula for it).
 std::string levels_read(const Texture& t, double u, double v, const UVDerivatives& d, double lambda) {
     const MipMap& mip = *t.mipmap;
     const Sampler& s = t.sampler;
@@ -261,11 +262,14 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += "\n1. Screen vertices S (pixels, snapped to 1/256) and q = 1/w at each:\n";
     for (int i = 0; i < 3; ++i) {
         const glm::dvec2& p = e.screen[std::size_t(i)];
-        out += format("    v%.0f = (%.4f, %.4f)   1/w = %.8g\n", i, p.x, p.y, e.h.q.at(p.x, p.y));
+        out += format("    v%.0f = (%.15g, %.15g)   1/w = %.8g\n", i, p.x, p.y, e.h.q.at(p.x, p.y));  // (k/256, exactly)
     }
 
     const char* inverse_rows[3] = {"u'", "v'", "q "};
     out += "\n2. The inverse homography M^-1 = U diag(1/w) adj(S) / det(S): rows u', v', q; columns x, y, 1\n";
+    if (e.uv_shift != glm::dvec2(0.0))
+        out += format("   (U holds the corners' u and v moved by whole periods, u by %+.17g and v by %+.17g: step 3 says why)\n",
+                      -e.uv_shift.x, -e.uv_shift.y);
     out += matrix(e.h.inverse(), inverse_rows);
     if (const auto forward = e.h.forward()) {
         const char* forward_rows[3] = {"x'", "y'", "w "};
@@ -337,11 +341,17 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
             }
             return c;
         };
+        // Outside [0, 1] under border wrap: the slide's test returns the border colour, which is
+        // what texr does with node registration (but for EWA); with cell registration texels
+        // beyond the edge are the border colour, and a filter blends them with those inside.
+        const bool outside = (t.sampler.wrap_u == Wrap::border && outside_border(u)) || (t.sampler.wrap_v == Wrap::border && outside_border(v));
+        const bool slide_test = t.sampler.registration == Registration::node && t.sampler.filter != Filter::ewa;
         out += format("    the wrap mode's coordinate (the slides' form): t_u = %.6f, t_v = %.6f", wrapped(t.sampler.wrap_u, u),
                       wrapped(t.sampler.wrap_v, v)) +
-               ((t.sampler.wrap_u == Wrap::border && outside_border(u)) || (t.sampler.wrap_v == Wrap::border && outside_border(v))
-                    ? " (outside [0, 1]: the border colour)\n"
-                    : "\n");
+               (!outside      ? "\n"
+                : slide_test  ? " (outside [0, 1]: the border colour)\n"
+                              : " (outside [0, 1]: texels beyond the image's edge are the border colour,\n"
+                                "    which the filter blends with the texels inside it reaches, as OpenGL does)\n");
         const bool cell = t.sampler.registration == Registration::cell;
         const double lx = cell ? u * w - 0.5 : u * (w - 1);
         const double ly = cell ? v * h - 0.5 : v * (h - 1);

@@ -6,8 +6,8 @@
 // Large coordinates: u arrives as a double. The lattice coordinate is split into whole
 // texels (a 64-bit integer, from which repeat and mirror remove whole periods exactly) and
 // the fraction (split_lattice), so |u| up to 1e7 on a 16384-texel image (1.6e11 texels)
-// neither overflows an int nor loses the fraction (a double has 53 bits, leaving 16 bits of
-// sub-texel precision at 1.6e11).
+// neither overflows an int nor loses the fraction (a double has 53 bits, leaving 15 bits of
+// sub-texel precision at 1.6e11, which lies between 2^37 and 2^38).
 #pragma once
 #include <algorithm>
 #include <cmath>
