@@ -815,6 +815,15 @@ TEST_CASE("texr explain tells border wrap's registrations apart: the slide's bor
     // x = u resU - 1/2 = -0.531: 0.469 of texel 0 (white) and 0.531 of the border (black).
     CHECK(out.find("the filter's value, linear RGBA: (0.46875, 0.46875, 0.46875, 1.00000)") != std::string::npos);
     CHECK(explain("cell", 4).find("the filter's value, linear RGBA: (0.00000, 0.00000, 0.00000, 1.00000)") != std::string::npos);
+    // Nearest: the lattice line is bilinear's, and says which one nearest takes.
+    CHECK(out.find("nearest takes") == std::string::npos);
+    const std::string scene = read_file(dir + "/scene.txt");
+    write_text(dir + "/scene.txt", scene.substr(0, scene.find(" registration")) + " filter nearest" + scene.substr(scene.find(" registration")));
+    out = run_texr("explain " + dir + "/scene.txt 15 32").output;
+    CAPTURE(out);
+    CHECK(out.find("    (the lattice that bilinear reads; nearest takes floor(u resU), below)\n") != std::string::npos);
+    CHECK(out.find("u resU = -0.0312") != std::string::npos);  // (floor: texel -1, the border)
+    CHECK(out.find("(outside [0, 1]: texels beyond the image's edge are the border\n    colour, as OpenGL has it)\n") != std::string::npos);
 }
 
 TEST_CASE("texr explain shades the pixel step by step: texture value, vertex colour, normal, each light, the background") {

@@ -348,10 +348,12 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         const bool slide_test = t.sampler.registration == Registration::node && t.sampler.filter != Filter::ewa;
         out += format("    the wrap mode's coordinate (the slides' form): t_u = %.6f, t_v = %.6f", wrapped(t.sampler.wrap_u, u),
                       wrapped(t.sampler.wrap_v, v)) +
-               (!outside      ? "\n"
-                : slide_test  ? " (outside [0, 1]: the border colour)\n"
-                              : " (outside [0, 1]: texels beyond the image's edge are the border colour,\n"
-                                "    which the filter blends with the texels inside it reaches, as OpenGL does)\n");
+               (!outside                              ? "\n"
+                : slide_test                          ? " (outside [0, 1]: the border colour)\n"
+                : t.sampler.filter == Filter::nearest ? " (outside [0, 1]: texels beyond the image's edge are the border\n"
+                                                        "    colour, as OpenGL has it)\n"
+                                                      : " (outside [0, 1]: texels beyond the image's edge are the border colour,\n"
+                                                        "    which the filter blends with the texels inside it reaches, as OpenGL does)\n");
         const bool cell = t.sampler.registration == Registration::cell;
         const double lx = cell ? u * w - 0.5 : u * (w - 1);
         const double ly = cell ? v * h - 0.5 : v * (h - 1);
@@ -360,6 +362,9 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                            : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (resU - 1) = %.4f,\n"
                              "    y = v (resV - 1) = %.4f\n",
                       lx, ly);
+        if (t.sampler.filter == Filter::nearest)  // (it rounds on its own lattice: base_taps, below)
+            out += cell ? "    (the lattice that bilinear reads; nearest takes floor(u resU), below)\n"
+                        : "    (the lattice that bilinear reads; nearest rounds it, below)\n";
         if (e.uv_shift != glm::dvec2(0.0)) {  // (step 3's re-based u and v: whole periods from the scene's)
             const double su = u + e.uv_shift.x, sv = v + e.uv_shift.y;
             out += format("    (of the re-based u and v; of the scene's, x = %.4f and y = %.4f: whole periods apart, the same\n"
