@@ -755,6 +755,7 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
                                    "material m texture t\nquad material m v -2 -2 -2 0 -3 v 2 -2 -2 1 -3 v 2 2 -2 1 -2 v -2 2 -2 0 -2\n");
     out = run_texr("explain " + dir + "/scene.txt 16 48").output;
     CHECK(out.find("(the setup moved the triangle's v by +3, whole periods") != std::string::npos);
+    CHECK(out.find("(U holds the corners' UVs after the setup moved the triangle's v by +3: step 3 says why)") != std::string::npos);
     CHECK(out.find("In the scene's coordinates u = 0.2578125, v = -2.7578125)") != std::string::npos);
     // A span mode's (u, v) that differ from u'/q, v'/q are in the same moved coordinates, and
     // are given in the scene's too: on a tilted quad (affine is wrong there), 100 more in u and
@@ -775,7 +776,8 @@ TEST_CASE("texr explain gives u and v in the scene's coordinates when the setup 
     CHECK(su - u == doctest::Approx(100.0).epsilon(1e-9));
     CHECK(sv - v == doctest::Approx(-3.0).epsilon(1e-9));
     // Step 2's rows are of the moved UVs, and it says so.
-    CHECK(out.find("(U holds the corners' u and v moved by whole periods, u by -100 and v by +3: step 3 says why)") != std::string::npos);
+    CHECK(out.find("(U holds the corners' UVs after the setup moved the triangle's u by -100 and its v by +3: step 3 says why)") !=
+          std::string::npos);
     // The screen vertices are printed exactly: multiples of 1/256.
     for (const char* name : {"    v0 = (", "    v1 = (", "    v2 = ("}) {
         const std::size_t at = out.find(name);

@@ -267,9 +267,13 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
 
     const char* inverse_rows[3] = {"u'", "v'", "q "};
     out += "\n2. The inverse homography M^-1 = U diag(1/w) adj(S) / det(S): rows u', v', q; columns x, y, 1\n";
+    // The UVs the setup moved by whole periods (only the coordinates that moved are named):
+    // step 2's U holds them, step 3 says why.
+    const std::string moved = e.uv_shift.x != 0.0 && e.uv_shift.y != 0.0 ? format("u by %+.17g and its v by %+.17g", -e.uv_shift.x, -e.uv_shift.y)
+                              : e.uv_shift.x != 0.0                   ? format("u by %+.17g", -e.uv_shift.x)
+                                                                      : format("v by %+.17g", -e.uv_shift.y);
     if (e.uv_shift != glm::dvec2(0.0))
-        out += format("   (U holds the corners' u and v moved by whole periods, u by %+.17g and v by %+.17g: step 3 says why)\n",
-                      -e.uv_shift.x, -e.uv_shift.y);
+        out += "   (U holds the corners' UVs after the setup moved the triangle's " + moved + ": step 3 says why)\n";
     out += matrix(e.h.inverse(), inverse_rows);
     if (const auto forward = e.h.forward()) {
         const char* forward_rows[3] = {"x'", "y'", "w "};
@@ -291,10 +295,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += "\n3. At the pixel centre, from the plane equations:\n";
     out += format("    u' = %.10g   v' = %.10g   q = 1/w = %.10g\n", u_prime, v_prime, q);
     out += format("    u = u'/q = %.10g   v = v'/q = %.10g\n", exact_u, exact_v);
-    if (e.uv_shift != glm::dvec2(0.0)) {  // (only the coordinates that moved are named)
-        const std::string moved = e.uv_shift.x != 0.0 && e.uv_shift.y != 0.0 ? format("u by %+.17g and its v by %+.17g", -e.uv_shift.x, -e.uv_shift.y)
-                                  : e.uv_shift.x != 0.0                   ? format("u by %+.17g", -e.uv_shift.x)
-                                                                          : format("v by %+.17g", -e.uv_shift.y);
+    if (e.uv_shift != glm::dvec2(0.0)) {
         out += "    (the setup moved the triangle's " + moved + ", whole periods of the wrap mode,\n" +
                "    so that the corners' smallest value lies within one period from 0: far from 0 it would\n" +
                "    lose precision; the texture reads the same. In the scene's coordinates" +
