@@ -27,6 +27,7 @@
 #include "helpers.h"
 #include "texr/core/color.h"
 #include "texr/core/text_line.h"
+#include "texr/io/frame_writer.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 #include "texr/texture/image.h"
@@ -101,6 +102,38 @@ std::string explained_material(const std::string& dir, int x, int y) {
     if (at == std::string::npos) return out;
     const std::size_t first = at + mark.size();
     return out.substr(first, out.find('\'', first) - first);
+}
+
+// The hidden temporary files (.texr-*) in `dir`, removed too with remove = true.
+int temporary_files(const std::string& dir, bool remove = false) {
+    int count = 0;
+    if (DIR* listing = ::opendir(dir.c_str())) {
+        while (const dirent* entry = ::readdir(listing))
+            if (std::strncmp(entry->d_name, ".texr-", 6) == 0) {
+                ++count;
+                if (remove) std::remove((dir + "/" + entry->d_name).c_str());
+            }
+        ::closedir(listing);
+    }
+    return count;
+}
+
+// Waits for process `child`, sending it `signal_number` the first time `writing()` is true
+// (and SIGKILL after 60 s). Returns the wait status, and whether the signal was sent.
+template <class Writing>
+std::pair<int, bool> wait_stopping_write(pid_t child, int signal_number, Writing writing) {
+    int status = 0;
+    bool sent = false;
+    const auto start = std::chrono::steady_clock::now();
+    while (::waitpid(child, &status, WNOHANG) == 0) {
+        if (!sent && writing()) {
+            sent = true;
+            ::kill(child, signal_number);
+        }
+        if (std::chrono::steady_clock::now() - start > std::chrono::seconds(60)) ::kill(child, SIGKILL);
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+    return {status, sent};
 }
 
 }  // namespace
@@ -2657,62 +2690,111 @@ TEST_CASE("a map_Kd line with texture options is refused at its .mtl line, as te
     }
 }
 
+TEST_CASE("writing through a named temporary file: the same result, and a signal removes the file") {
+    // write_file_atomically's fallback where the file system has no unnamed files.
+    const std::string dir = scratch_folder("named-temporary");
+    const auto temporaries = [&] { return temporary_files(dir); };
+    const std::string path = dir + "/data.bin";
+    write_text(path, "old");
+    REQUIRE(::chmod(path.c_str(), 0640) == 0);
+    const std::vector<std::uint8_t> bytes = {1, 2, 3, 0, 255};
+    texr::write_file_atomically(path, bytes, texr::TemporaryFile::named);
+    CHECK(read_file(path) == std::string("\x01\x02\x03\x00\xff", 5));
+    struct stat info;
+    REQUIRE(::stat(path.c_str(), &info) == 0);
+    CHECK((info.st_mode & 0777) == 0640);
+    CHECK(temporaries() == 0);
+    // A process writing 64 MiB gets SIGHUP once its temporary file shows up; where that
+    // stopped it before the rename, the file must be gone. A round that misses the write is
+    // run again, up to 8 times. (SIGHUP: the test runner catches SIGTERM and SIGINT itself,
+    // and the handler is installed only where a signal's action is the default.)
+    const std::vector<std::uint8_t> large(std::size_t(64) << 20, 7);  // (made before the fork)
+    bool stopped_while_writing = false;
+    for (int round = 0; round < 8 && !stopped_while_writing; ++round) {
+        std::remove(path.c_str());
+        const pid_t child = ::fork();
+        REQUIRE(child >= 0);
+        if (child == 0) {
+            texr::remove_partial_outputs_on_signals();
+            try {
+                texr::write_file_atomically(path, large, texr::TemporaryFile::named);
+            } catch (...) {
+                ::_exit(1);
+            }
+            ::_exit(0);
+        }
+        const auto [status, seen] = wait_stopping_write(child, SIGHUP, [&] { return temporaries() > 0; });
+        stopped_while_writing = seen && WIFSIGNALED(status) && WTERMSIG(status) == SIGHUP && !file_exists(path);
+        if (stopped_while_writing) CHECK(temporaries() == 0);
+    }
+    CHECK(stopped_while_writing);
+}
+
 TEST_CASE("a render stopped by a signal while it writes its frame leaves no partial file behind") {
-    // texr render writes a 48 MiB frame through a hidden temporary file beside it; as soon as
-    // that file shows up, the process gets SIGTERM (then, in a second round, SIGINT). Where it
-    // was stopped before the rename (killed by the signal, no frame written), the temporary
-    // file must be gone too. The write takes a few tens of milliseconds; a round that misses it
-    // (the render done first) is run again, up to 8 times.
+    // texr render writes a 48 MiB frame through a temporary file in the frame's folder: one
+    // with no name (O_TMPFILE) where the file system allows it, as here, else a hidden one. As
+    // soon as the render has that file open, it gets SIGKILL (then, in later rounds, SIGTERM
+    // and SIGINT). Where it was stopped before the rename (killed by the signal, no frame
+    // written), no temporary file may be left in the folder. The write takes a few tens of
+    // milliseconds; a round that misses it (the render done first) is run again, up to 8 times.
     const std::string dir = scratch_folder("signal-partial");
     write_text(dir + "/empty.scene", "size 4 4\nbackground 0.2 0.4 0.6\ntriangle v -1 -1 -5 0 0 v 1 -1 -5 1 0 v 0 1 -5 0 1\n");
+    char absolute[PATH_MAX];
+    REQUIRE(::realpath(dir.c_str(), absolute) != nullptr);
+    const std::string folder = absolute;
     // The temporary files in the folder (removed, with remove = true: one a round left behind
     // has been reported, and must not be taken for the next round's).
-    const auto temporaries = [&](bool remove = false) {
-        int count = 0;
-        if (DIR* folder = ::opendir(dir.c_str())) {
-            while (const dirent* entry = ::readdir(folder))
-                if (std::strncmp(entry->d_name, ".texr-", 6) == 0) {
-                    ++count;
-                    if (remove) std::remove((dir + "/" + entry->d_name).c_str());
-                }
-            ::closedir(folder);
+    const auto temporaries = [&](bool remove = false) { return temporary_files(dir, remove); };
+    // Whether process `pid` is writing its temporary file: a named one is in the folder; an
+    // unnamed one shows in /proc as "FOLDER/#INODE (deleted)".
+    const auto writing = [&](pid_t pid) {
+        bool found = false;
+        const std::string fds = "/proc/" + std::to_string(pid) + "/fd";
+        if (DIR* listing = ::opendir(fds.c_str())) {
+            while (const dirent* entry = ::readdir(listing)) {
+                char target[PATH_MAX + 1];
+                const ssize_t n = ::readlink((fds + "/" + entry->d_name).c_str(), target, PATH_MAX);
+                const std::string name(target, std::size_t(n > 0 ? n : 0));
+                const std::string deleted = " (deleted)";  // (the scene file, in the folder too, is not it)
+                if (name.rfind(folder + "/", 0) == 0 && name.size() > deleted.size() &&
+                    name.compare(name.size() - deleted.size(), deleted.size(), deleted) == 0)
+                    found = true;
+            }
+            ::closedir(listing);
         }
-        return count;
+        return found || temporaries() > 0;
     };
-    // Starts texr render writing `frame` (with file_size_limit > 0, under that limit): its pid.
-    const std::string frame = dir + "/frame.ppm";
-    const auto start_render = [&](rlim_t file_size_limit) {
-        std::remove(frame.c_str());
+    // Starts texr render writing `frame` (with file_size_limit > 0, under that limit; with
+    // ignore_size_signal, SIGXFSZ ignored, so that the write fails instead, over a previous
+    // frame, and texr's messages go to log.txt): its pid.
+    const std::string frame = dir + "/frame.ppm", log = dir + "/log.txt";
+    const auto start_render = [&](rlim_t file_size_limit, bool ignore_size_signal = false) {
+        if (ignore_size_signal)
+            write_text(frame, "previous frame");
+        else
+            std::remove(frame.c_str());
         temporaries(true);
         const pid_t child = ::fork();
         REQUIRE(child >= 0);
         if (child == 0) {
-            const int null = ::open("/dev/null", O_WRONLY);  // (not freopen: it would flush the parent's buffered output)
-            ::dup2(null, 1), ::dup2(null, 2);
+            // (not freopen: it would flush the parent's buffered output)
+            const int out = ignore_size_signal ? ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644) : ::open("/dev/null", O_WRONLY);
+            ::dup2(out, 1), ::dup2(out, 2);
             const rlimit limit{file_size_limit, file_size_limit};
             if (file_size_limit > 0) ::setrlimit(RLIMIT_FSIZE, &limit);
+            if (ignore_size_signal) ::signal(SIGXFSZ, SIG_IGN);
             ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/empty.scene").c_str(), "--size", "4096x4096", "-o", frame.c_str(),
                     static_cast<char*>(nullptr));
             ::_exit(127);
         }
         return child;
     };
-    for (const int signal_number : {SIGTERM, SIGINT}) {
+    for (const int signal_number : {SIGKILL, SIGTERM, SIGINT}) {
         CAPTURE(signal_number);
         bool stopped_while_writing = false;
         for (int round = 0; round < 8 && !stopped_while_writing; ++round) {
             const pid_t child = start_render(0);
-            int status = 0;
-            bool seen = false;
-            const auto start = std::chrono::steady_clock::now();
-            while (::waitpid(child, &status, WNOHANG) == 0) {
-                if (!seen && temporaries() > 0) {
-                    seen = true;
-                    ::kill(child, signal_number);
-                }
-                if (std::chrono::steady_clock::now() - start > std::chrono::seconds(60)) ::kill(child, SIGKILL);
-                std::this_thread::sleep_for(std::chrono::microseconds(100));
-            }
+            const auto [status, seen] = wait_stopping_write(child, signal_number, [&] { return writing(child); });
             stopped_while_writing = seen && WIFSIGNALED(status) && WTERMSIG(status) == signal_number && !file_exists(frame);
             if (stopped_while_writing) CHECK(temporaries() == 0);
         }
@@ -2725,5 +2807,14 @@ TEST_CASE("a render stopped by a signal while it writes its frame leaves no part
     CHECK(WIFSIGNALED(status));
     CHECK(WTERMSIG(status) == SIGXFSZ);
     CHECK_FALSE(file_exists(frame));
+    CHECK(temporaries() == 0);
+    // With SIGXFSZ ignored, the write fails at the limit instead: texr says why, and leaves
+    // the previous frame as it was.
+    const pid_t failing = start_render(1 << 20, true);
+    REQUIRE(::waitpid(failing, &status, 0) == failing);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    CHECK(read_file(log) == "texr: " + frame + ": cannot write output file: " + std::strerror(EFBIG) + "\n");
+    CHECK(read_file(frame) == "previous frame");
     CHECK(temporaries() == 0);
 }

@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -196,7 +197,23 @@ void remove_partial_outputs_on_signals() {
     }
 }
 
-void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes) {
+namespace {
+
+// Writes all of `bytes` to `fd`: false (errno set) if it could not.
+bool write_all(int fd, const std::vector<std::uint8_t>& bytes) {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += std::size_t(n);
+    }
+    return true;
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes, TemporaryFile temporary_file) {
     const std::string path = written_path(requested);
     // A short hidden name in the same folder (so that rename replaces the file in one step),
     // whatever the length of the file's own name; numbered, so that writes from several
@@ -206,21 +223,46 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
     const ListedPartialOutput listed(temporary);  // (before the file exists: a signal between would find nothing to remove)
     if (stopping.load()) throw InputError(requested, 0, "cannot write output file: texr is being stopped by a signal");
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (!file) {
+    // An unnamed file (O_TMPFILE) where the kernel and the file system allow it: until it is
+    // linked under the temporary name, just before the rename, nothing stopping the process
+    // (SIGKILL, a crash, a power cut) can leave it behind. Elsewhere a named one, which the
+    // signal handler removes.
+    bool named = temporary_file == TemporaryFile::named;
+    int fd = -1;
+#if defined(O_TMPFILE)
+    if (!named) fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+#endif
+    if (fd < 0) {
+        named = true;
+        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    }
+    if (fd < 0) {
         const int error = errno;
         check_output_path(requested);  // names the reason when it can
         throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
     }
     // The replaced file's permissions carry over to the new one.
     struct stat old_file;
-    const bool replacing = ::stat(path.c_str(), &old_file) == 0;
-    if (replacing) ::fchmod(::fileno(file), old_file.st_mode & 07777);
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-    const bool closed = std::fclose(file) == 0;
-    if (!written || !closed) {
+    if (::stat(path.c_str(), &old_file) == 0) ::fchmod(fd, old_file.st_mode & 07777);
+    if (!write_all(fd, bytes)) {
+        const int error = errno;
+        ::close(fd);
+        if (named) std::remove(temporary.c_str());
+        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+    }
+    if (!named) {
+        // The unnamed file gets its name through its entry in /proc.
+        const std::string entry = "/proc/self/fd/" + std::to_string(fd);
+        if (::linkat(AT_FDCWD, entry.c_str(), AT_FDCWD, temporary.c_str(), AT_SYMLINK_FOLLOW) != 0) {
+            ::close(fd);  // (no /proc, say: the bytes are written again, to a named file)
+            write_file_atomically(requested, bytes, TemporaryFile::named);
+            return;
+        }
+    }
+    if (::close(fd) != 0) {
+        const int error = errno;
         std::remove(temporary.c_str());
-        throw InputError(requested, 0, "cannot write output file (disk full?)");
+        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
     }
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
         const int error = errno;
