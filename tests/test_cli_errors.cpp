@@ -2730,6 +2730,33 @@ TEST_CASE("writing through a named temporary file: the same result, and a signal
     CHECK(stopped_while_writing);
 }
 
+TEST_CASE("temporary names that files left by an earlier process take are passed over") {
+    // An earlier texr with the same process number, stopped by SIGKILL while it wrote through
+    // a named temporary file, left .texr-PID-0.tmp and .texr-PID-1.tmp: a render with that
+    // number (the child below, before and after exec) names its file .texr-PID-2.tmp, writes
+    // its frame, and leaves the two files as they are (they are not its own).
+    const std::string dir = scratch_folder("stale-temporary");
+    write_text(dir + "/scene.txt", good_scene);
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        for (const char* number : {"0", "1"})
+            std::ofstream(dir + "/.texr-" + std::to_string(::getpid()) + "-" + number + ".tmp") << "stale";
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, 1), ::dup2(null, 2);
+        ::execl(TEXR_BINARY, TEXR_BINARY, "render", (dir + "/scene.txt").c_str(), "-o", (dir + "/frame.png").c_str(),
+                static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(child, &status, 0) == child);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    CHECK(read_file(dir + "/frame.png").substr(0, 8) == "\x89PNG\r\n\x1a\n");
+    CHECK(temporary_files(dir) == 2);
+    for (const char* number : {"0", "1"}) CHECK(read_file(dir + "/.texr-" + std::to_string(child) + "-" + number + ".tmp") == "stale");
+}
+
 TEST_CASE("a render stopped by a signal while it writes its frame leaves no partial file behind") {
     // texr render writes a 48 MiB frame through a temporary file in the frame's folder: one
     // with no name (O_TMPFILE) where the file system allows it, as here, else a hidden one. As

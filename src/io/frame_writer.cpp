@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -215,14 +216,34 @@ bool write_all(int fd, const std::vector<std::uint8_t>& bytes) {
 
 void write_file_atomically(const std::string& requested, const std::vector<std::uint8_t>& bytes, TemporaryFile temporary_file) {
     const std::string path = written_path(requested);
-    // A short hidden name in the same folder (so that rename replaces the file in one step),
-    // whatever the length of the file's own name; numbered, so that writes from several
-    // threads of one process never share one.
-    static std::atomic<unsigned> writes{0};
     const std::string folder = folder_of(path);
-    const std::string temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
-    const ListedPartialOutput listed(temporary);  // (before the file exists: a signal between would find nothing to remove)
-    if (stopping.load()) throw InputError(requested, 0, "cannot write output file: texr is being stopped by a signal");
+    // The temporary file's name: short and hidden, in the same folder (so that rename replaces
+    // the file in one step), whatever the length of the file's own name; numbered, so that
+    // writes from several threads of one process never share one. It is listed for the signal
+    // handler before the file is made (a signal between would find nothing to remove), and
+    // the handler's flag read after (a write that starts while it runs makes no file).
+    static std::atomic<unsigned> writes{0};
+    std::string temporary;
+    std::optional<ListedPartialOutput> listed;
+    const auto cannot_write = [&](int error) {
+        if (error == ECANCELED) return InputError(requested, 0, "cannot write output file: texr is being stopped by a signal");
+        return InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+    };
+    // Makes a file under the next name with `make` (false, with errno, where it cannot). A
+    // name taken already (by a file that an earlier texr with the same process number left,
+    // stopped by SIGKILL) is passed over for the next, up to 100 times. Returns 0, or the error
+    // (ECANCELED: texr is being stopped by a signal).
+    const auto make_named = [&](auto make) {
+        for (int attempt = 0; attempt < 100; ++attempt) {
+            temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
+            listed.reset();
+            listed.emplace(temporary);
+            if (stopping.load()) return ECANCELED;
+            if (make()) return 0;
+            if (errno != EEXIST) return errno;
+        }
+        return EEXIST;
+    };
     // An unnamed file (O_TMPFILE) where the kernel and the file system allow it: until it is
     // linked under the temporary name, just before the rename, nothing stopping the process
     // (SIGKILL, a crash, a power cut) can leave it behind. Elsewhere a named one, which the
@@ -234,12 +255,11 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
 #endif
     if (fd < 0) {
         named = true;
-        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    }
-    if (fd < 0) {
-        const int error = errno;
-        check_output_path(requested);  // names the reason when it can
-        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+        const int error = make_named([&] { return (fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666)) >= 0; });
+        if (error != 0) {
+            if (error != ECANCELED) check_output_path(requested);  // names the reason when it can
+            throw cannot_write(error);
+        }
     }
     // The replaced file's permissions carry over to the new one.
     struct stat old_file;
@@ -248,13 +268,17 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
         const int error = errno;
         ::close(fd);
         if (named) std::remove(temporary.c_str());
-        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+        throw cannot_write(error);
     }
     if (!named) {
         // The unnamed file gets its name through its entry in /proc.
         const std::string entry = "/proc/self/fd/" + std::to_string(fd);
-        if (::linkat(AT_FDCWD, entry.c_str(), AT_FDCWD, temporary.c_str(), AT_SYMLINK_FOLLOW) != 0) {
-            ::close(fd);  // (no /proc, say: the bytes are written again, to a named file)
+        const int error =
+            make_named([&] { return ::linkat(AT_FDCWD, entry.c_str(), AT_FDCWD, temporary.c_str(), AT_SYMLINK_FOLLOW) == 0; });
+        if (error != 0) {
+            ::close(fd);
+            if (error == ECANCELED) throw cannot_write(error);
+            // (no /proc, say: the bytes are written again, to a named file)
             write_file_atomically(requested, bytes, TemporaryFile::named);
             return;
         }
@@ -262,12 +286,12 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     if (::close(fd) != 0) {
         const int error = errno;
         std::remove(temporary.c_str());
-        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+        throw cannot_write(error);
     }
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
         const int error = errno;
         std::remove(temporary.c_str());
-        throw InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
+        throw cannot_write(error);
     }
 }
 
