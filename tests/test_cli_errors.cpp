@@ -609,6 +609,24 @@ TEST_CASE("command-line mistakes exit with code 2 and say what is wrong") {
     CHECK_FALSE(file_exists(dir + "/out.jpg"));
 }
 
+TEST_CASE("texr --version names the commit it was built from") {
+    // The commit as git tells it here (the test is built with texr, from the same tree), or
+    // "unknown" where the source is not a git checkout or git is missing.
+    const std::string git = "git -C '" + std::string(TEXR_SOURCE_DIR) + "' log -1 --abbrev=12 '--format=%h of %cs' 2>/dev/null";
+    std::string commit;
+    if (std::FILE* pipe = ::popen(git.c_str(), "r")) {
+        char line[256];
+        if (std::fgets(line, sizeof line, pipe)) commit = line;
+        ::pclose(pipe);
+    }
+    if (!commit.empty() && commit.back() == '\n') commit.pop_back();
+    if (commit.empty()) commit = "unknown";
+    const RunResult r = run_texr("--version");
+    CHECK(r.exit_code == 0);
+    CAPTURE(commit);
+    CHECK((r.output == "texr 0.1 (commit " + commit + ")\n" || r.output == "texr 0.1 (commit " + commit + ", with uncommitted changes)\n"));
+}
+
 TEST_CASE("help documents every option") {
     RunResult r = run_texr("--help");
     CHECK(r.exit_code == 0);

@@ -23,6 +23,7 @@
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
 #include "texr/texture/lod_avx2.h"
+#include "texr_version.h"  // (generated: TEXR_COMMIT)
 
 namespace {
 
@@ -39,7 +40,7 @@ const char* main_help =
     "\n"
     "options:\n"
     "  -h, --help      show this help (texr render --help for the command's options)\n"
-    "  --version       print the version\n"
+    "  --version       print the version and the commit texr was built from\n"
     "\n"
     "The scene format is described in docs/scene-format.md.\n";
 
@@ -416,7 +417,7 @@ int run(const std::vector<std::string>& raw_args) {
             return 0;
         }
         if (command == "--version") {
-            std::puts("texr 0.1");
+            std::puts("texr 0.1 (commit " TEXR_COMMIT ")");
             return 0;
         }
         if (command == "render") return run_render({args.begin() + 1, args.end()});
