@@ -2863,3 +2863,54 @@ TEST_CASE("a render stopped by a signal while it writes its frame leaves no part
     CHECK(read_file(frame) == "previous frame");
     CHECK(temporaries() == 0);
 }
+
+TEST_CASE("texr compare: the same pixels, differences worked out by hand, tolerance, sizes and errors") {
+    const std::string dir = scratch_folder("compare");
+    // 2x2 PPMs, rows from the top. B differs from A at pixel (1, 0) (top row, right) by +3
+    // in red and at (0, 1) by -1 in blue: 2 of 4 pixels differ, by at most 3; the mean
+    // difference is (3 + 1) / 12 channels = 0.3333; MSE (9 + 1) / 12, PSNR
+    // 10 log10(255^2 * 12 / 10) = 48.92 dB.
+    const auto ppm = [&](const std::string& name, const std::string& pixels) {
+        write_text(dir + "/" + name, "P6\n2 2\n255\n" + pixels);
+        return dir + "/" + name;
+    };
+    const std::string a = ppm("a.ppm", "\x0a\x14\x1e\x0a\x14\x1e\x0a\x14\x1e\x0a\x14\x1e");
+    const std::string b = ppm("b.ppm", std::string("\x0a\x14\x1e\x0d\x14\x1e\x0a\x14\x1d\x0a\x14\x1e", 12));
+    RunResult r = run_texr("compare " + a + " " + b);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "2x2: 2 of 4 pixels differ, by at most 3 of 255 (first at pixel (1, 0)); mean difference 0.3333 a channel, "
+                      "PSNR 48.92 dB\n");
+    r = run_texr("compare " + a + " " + b + " --max-diff 3");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("PSNR 48.92 dB, within --max-diff 3\n") != std::string::npos);
+    CHECK(run_texr("compare " + a + " " + b + " --max-diff=2").exit_code == 1);
+    // The same pixels as a PNG (whose rows stb_image_write takes from the top) match the PPM.
+    const std::string b_png = dir + "/b.png";
+    REQUIRE(stbi_write_png(b_png.c_str(), 2, 2, 3, "\x0a\x14\x1e\x0d\x14\x1e\x0a\x14\x1d\x0a\x14\x1e", 6) != 0);
+    r = run_texr("compare " + b_png + " " + b);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output == "2x2: the same pixels\n");
+    // Sizes that differ; images that cannot be read; bad command lines.
+    const std::string wide = dir + "/wide.ppm";
+    write_text(wide, "P6\n3 2\n255\n" + std::string(18, 'x'));
+    r = run_texr("compare " + a + " " + wide);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output == "sizes differ: 2x2 against 3x2\n");
+    const float hdr_texels[3] = {1.0f, 2.0f, 3.0f};
+    REQUIRE(stbi_write_hdr((dir + "/one.hdr").c_str(), 1, 1, 3, hdr_texels) != 0);
+    for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+             {a + " " + dir + "/missing.png", dir + "/missing.png: cannot open image file"},
+             {dir + "/one.hdr " + a, dir + "/one.hdr: a Radiance HDR image: texr compare reads 8-bit images"},
+             {a, "texr compare needs two images A B (try texr compare --help)"},
+             {a + " " + b + " " + a, "texr compare takes two images A B; '" + a + "' is one too many"},
+             {a + " " + b + " --max-diff 256", "--max-diff expects a whole number from 0 to 255, got '256'"},
+             {a + " " + b + " --max-diff 1 --max-diff 2", "--max-diff given twice"},
+             {a + " " + b + " --quiet", "unknown option '--quiet' for 'texr compare'"},
+         }) {
+        r = run_texr("compare " + arguments);
+        CAPTURE(arguments);
+        CHECK(r.exit_code == 2);
+        CHECK(r.output == "texr: " + message + "\n");
+    }
+    CHECK(run_texr("compare --help").output.find("exit status: 0 the images match") != std::string::npos);
+}

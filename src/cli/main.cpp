@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -22,6 +23,7 @@
 #include "texr/render/needs.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
+#include "texr/texture/image.h"
 #include "texr/texture/lod_avx2.h"
 #include "texr_version.h"  // (generated: TEXR_COMMIT)
 
@@ -37,6 +39,7 @@ const char* main_help =
     "  explain SCENE X Y  tell the story of pixel (X, Y): its triangle, homography,\n"
     "                  (u', v', q), u and v, derivatives, level of detail, colour\n"
     "  bench [NAME]    run benchmarks (run time against error) into out/bench/\n"
+    "  compare A B     compare two images pixel by pixel (exit 0 if they match)\n"
     "\n"
     "options:\n"
     "  -h, --help      show this help (texr render --help for the command's options)\n"
@@ -56,6 +59,24 @@ const char* explain_help =
     "--span-tolerance are render's (the other render options do not apply): with a --span mode\n"
     "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
     "exact derivatives taken there, and explain says by how much they differ.\n";
+
+const char* compare_help =
+    "usage: texr compare A B [--max-diff N]\n"
+    "\n"
+    "Compares two 8-bit images (PNG, PPM, or another format texr reads textures in; not\n"
+    "Radiance HDR) pixel by pixel, by their red, green and blue values (alpha is not\n"
+    "compared): a PNG and a PPM of the same pixels match. Prints the size, how many pixels\n"
+    "differ, the largest difference (of 255) and the first pixel where it is found (column\n"
+    "X from the left, row Y from the top, as texr explain takes them), the mean difference\n"
+    "a channel and the PSNR.\n"
+    "\n"
+    "options (each at most once; --name=value works too):\n"
+    "  --max-diff N   the largest difference that still counts as a match, 0..255\n"
+    "                 (default 0: the same pixels)\n"
+    "  -h, --help     show this help\n"
+    "\n"
+    "exit status: 0 the images match, 1 they differ (their sizes, or a pixel by more than\n"
+    "N), 2 an image cannot be read, or a bad command line\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"
@@ -378,11 +399,86 @@ int run_explain(const std::vector<std::string>& argv) {
     return 0;
 }
 
+// texr compare (compare_help): 0 when A and B match within max_diff, 1 when not, 2 when an
+// image cannot be read (usage errors: 2, by run's catch).
+int run_compare(const std::vector<std::string>& argv) {
+    for (const auto& a : argv)
+        if (a == "-h" || a == "--help") {
+            std::fputs(compare_help, stdout);
+            return 0;
+        }
+    std::vector<std::string> files;
+    int max_diff = 0;
+    bool max_diff_given = false;
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+        if (argv[i] == "--max-diff") {
+            if (max_diff_given) throw UsageError{"--max-diff given twice"};
+            if (i + 1 == argv.size()) throw UsageError{"--max-diff needs a value (try texr compare --help)"};
+            const std::string& text = argv[++i];
+            if (text.empty() || text.size() > 3 || text.find_first_not_of("0123456789") != std::string::npos || std::stoi(text) > 255)
+                throw UsageError{"--max-diff expects a whole number from 0 to 255, got " + texr::shown_token(text)};
+            max_diff = std::stoi(text), max_diff_given = true;
+        } else if (argv[i].size() > 1 && argv[i][0] == '-') {
+            throw UsageError{"unknown option " + texr::shown_token(argv[i]) + " for 'texr compare'"};
+        } else {
+            files.push_back(argv[i]);
+        }
+    }
+    if (files.size() > 2) throw UsageError{"texr compare takes two images A B; '" + files[2] + "' is one too many"};
+    if (files.size() != 2) throw UsageError{"texr compare needs two images A B (try texr compare --help)"};
+    texr::Image images[2];
+    try {
+        for (int k = 0; k < 2; ++k) {
+            images[k] = texr::load_image(files[std::size_t(k)], texr::ColorSpace::linear);
+            if (images[k].is_hdr())
+                throw texr::InputError(files[std::size_t(k)], 0, "a Radiance HDR image: texr compare reads 8-bit images");
+        }
+    } catch (const texr::InputError& e) {
+        std::fprintf(stderr, "texr: %s\n", e.what());
+        return 2;
+    }
+    const int width = images[0].width(), height = images[0].height();
+    if (images[1].width() != width || images[1].height() != height) {
+        std::printf("sizes differ: %dx%d against %dx%d\n", width, height, images[1].width(), images[1].height());
+        return 1;
+    }
+    // Rows from the top (the images hold theirs bottom row first), pixels from the left.
+    const texr::LdrLevel a = images[0].ldr_level(), b = images[1].ldr_level();
+    std::uint64_t differing = 0, sum = 0, sum_of_squares = 0;
+    int largest = 0, largest_x = 0, largest_y = 0;
+    for (int y = 0; y < height; ++y) {
+        const std::size_t row = std::size_t(height - 1 - y);
+        for (int x = 0; x < width; ++x) {
+            const std::uint8_t* p = a.texels + row * a.row_bytes + 4 * std::size_t(x);
+            const std::uint8_t* q = b.texels + row * b.row_bytes + 4 * std::size_t(x);
+            int pixel_largest = 0;
+            for (int c = 0; c < 3; ++c) {
+                const int d = std::abs(int(p[c]) - int(q[c]));
+                sum += std::uint64_t(d), sum_of_squares += std::uint64_t(d * d);
+                pixel_largest = std::max(pixel_largest, d);
+            }
+            differing += pixel_largest > 0;
+            if (pixel_largest > largest) largest = pixel_largest, largest_x = x, largest_y = y;
+        }
+    }
+    if (differing == 0) {
+        std::printf("%dx%d: the same pixels\n", width, height);
+        return 0;
+    }
+    const double channels = 3.0 * double(width) * double(height);
+    std::printf("%dx%d: %llu of %llu pixels differ, by at most %d of 255 (first at pixel (%d, %d)); mean difference %.4g a "
+                "channel, PSNR %.2f dB%s\n",
+                width, height, static_cast<unsigned long long>(differing), static_cast<unsigned long long>(width) * height, largest,
+                largest_x, largest_y, double(sum) / channels, 10.0 * std::log10(255.0 * 255.0 / (double(sum_of_squares) / channels)),
+                largest <= max_diff ? (", within --max-diff " + std::to_string(max_diff)).c_str() : "");
+    return largest <= max_diff ? 0 : 1;
+}
+
 // `--name=value` as the two arguments `--name value`, for the options that take a value
 // (texr render's, explain's and bench's); a flag given a value is refused.
 std::vector<std::string> split_option_values(const std::vector<std::string>& args) {
     static const char* const with_values[] = {"--output", "--size", "--repeat", "--threads", "--spp",
-                                              "--span", "--span-tolerance", "--models", "--out"};
+                                              "--span", "--span-tolerance", "--models", "--out", "--max-diff"};
     std::vector<std::string> out;
     for (const std::string& a : args) {
         const std::size_t equals = a.find('=');
@@ -422,6 +518,7 @@ int run(const std::vector<std::string>& raw_args) {
         }
         if (command == "render") return run_render({args.begin() + 1, args.end()});
         if (command == "explain") return run_explain({args.begin() + 1, args.end()});
+        if (command == "compare") return run_compare({args.begin() + 1, args.end()});
         if (command == "bench") {
             const std::vector<std::string> rest(args.begin() + 1, args.end());
             for (const auto& a : rest)
