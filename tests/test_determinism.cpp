@@ -16,6 +16,7 @@
 
 #include "helpers.h"
 #include "texr/io/frame_writer.h"
+#include "texr/raster/span_modes.h"
 #include "texr/render/explain.h"
 #include "texr/render/renderer.h"
 #include "texr/scene/parser.h"
@@ -56,6 +57,51 @@ TEST_CASE("frames are byte-identical for 1, 2, 3, 5 and 16 threads") {
             }
         }
     }
+}
+
+TEST_CASE("frames are byte-identical for 1, 2 and 5 threads in every span mode and with supersampling") {
+    // The README's promise covers --span, --span-tolerance and --spp as well as --threads.
+    for (const char* file : {"models/demo.scene", "models/bench/grazing.scene"}) {
+        for (int mode = 0; mode < span_mode_count; ++mode) {
+            for (const int spp : {1, 3}) {
+                if (spp > 1 && mode != int(SpanMode::incremental) && mode != int(SpanMode::adaptive)) continue;
+                CAPTURE(file);
+                CAPTURE(mode);
+                CAPTURE(spp);
+                RenderOptions options;
+                options.width = 131, options.height = 97;
+                options.span_mode = SpanMode(mode);
+                options.span_tolerance = mode == int(SpanMode::adaptive) ? 0.1 : 1.0 / 64.0;
+                options.spp = spp;
+                options.threads = 1;
+                RenderStats reference_stats;
+                const Framebuffer reference = render(load_scene(testing::source_path(file)), options, reference_stats);
+                for (const int threads : {2, 5}) {
+                    options.threads = threads;
+                    RenderStats stats;
+                    const Framebuffer fb = render(load_scene(testing::source_path(file)), options, stats);
+                    CHECK(fb.color == reference.color);
+                    CHECK(stats.texels_fetched == reference_stats.texels_fetched);
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("texr render writes the same bytes run after run and with --repeat") {
+    const std::string dir = testing::scratch_folder("same-bytes");
+    const std::string scene = testing::source_path("models/demo.scene");
+    const auto frame = [&](const std::string& name, const std::string& options) {
+        const testing::RunResult r = testing::run_texr("render " + scene + " --size 160x120 -o " + dir + "/" + name + " " + options);
+        CAPTURE(r.output);
+        CHECK(r.exit_code == 0);
+        return testing::read_file(dir + "/" + name);
+    };
+    const std::string first = frame("first.ppm", "");
+    CHECK(first.size() == std::string("P6\n160 120\n255\n").size() + 160 * 120 * 3);
+    CHECK(frame("second.ppm", "") == first);
+    CHECK(frame("repeated.ppm", "--repeat 3") == first);
+    CHECK(frame("threads.ppm", "--threads 3 --repeat 2") == first);
 }
 
 TEST_CASE("frames are byte-identical with and without AVX2's lanes (TEXR_NO_AVX2=1)") {

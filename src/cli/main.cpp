@@ -76,7 +76,7 @@ const char* compare_help =
     "  -h, --help     show this help\n"
     "\n"
     "exit status: 0 the images match, 1 they differ (their sizes, or a pixel by more than\n"
-    "N), 2 an image cannot be read, or a bad command line\n";
+    "N), 2 an image cannot be read, a bad command line, or standard output failed\n";
 
 const char* render_help =
     "usage: texr render SCENE [options]\n"
@@ -399,9 +399,14 @@ int run_explain(const std::vector<std::string>& argv) {
     return 0;
 }
 
+// The exit status for a failure other than the command's own: 1 (a bad scene, an unwritable
+// output), or 2 for texr compare, whose 1 means "the images differ".
+int trouble_status = 1;
+
 // texr compare (compare_help): 0 when A and B match within max_diff, 1 when not, 2 when an
 // image cannot be read (usage errors: 2, by run's catch).
 int run_compare(const std::vector<std::string>& argv) {
+    trouble_status = 2;
     for (const auto& a : argv)
         if (a == "-h" || a == "--help") {
             std::fputs(compare_help, stdout);
@@ -415,9 +420,11 @@ int run_compare(const std::vector<std::string>& argv) {
             if (max_diff_given) throw UsageError{"--max-diff given twice"};
             if (i + 1 == argv.size()) throw UsageError{"--max-diff needs a value (try texr compare --help)"};
             const std::string& text = argv[++i];
-            if (text.empty() || text.size() > 3 || text.find_first_not_of("0123456789") != std::string::npos || std::stoi(text) > 255)
+            const std::size_t first_digit = std::min(text.find_first_not_of('0'), text.size() - 1);  // (leading zeros skipped)
+            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() - first_digit > 3 ||
+                std::stoi(text.substr(first_digit)) > 255)
                 throw UsageError{"--max-diff expects a whole number from 0 to 255, got " + texr::shown_token(text)};
-            max_diff = std::stoi(text), max_diff_given = true;
+            max_diff = std::stoi(text.substr(first_digit)), max_diff_given = true;
         } else if (argv[i].size() > 1 && argv[i][0] == '-') {
             throw UsageError{"unknown option " + texr::shown_token(argv[i]) + " for 'texr compare'"};
         } else {
@@ -429,9 +436,11 @@ int run_compare(const std::vector<std::string>& argv) {
     texr::Image images[2];
     try {
         for (int k = 0; k < 2; ++k) {
-            images[k] = texr::load_image(files[std::size_t(k)], texr::ColorSpace::linear);
-            if (images[k].is_hdr())
-                throw texr::InputError(files[std::size_t(k)], 0, "a Radiance HDR image: texr compare reads 8-bit images");
+            const std::string& file = files[std::size_t(k)];
+            images[k] = texr::load_image(file, texr::ColorSpace::linear);
+            if (images[k].is_hdr()) throw texr::InputError(file, 0, "a Radiance HDR image: texr compare reads 8-bit images");
+            if (texr::image_file_is_16_bit(file))
+                throw texr::InputError(file, 0, "an image of 16 bits a channel: texr compare reads 8-bit images");
         }
     } catch (const texr::InputError& e) {
         std::fprintf(stderr, "texr: %s\n", e.what());
@@ -541,13 +550,13 @@ int run(const std::vector<std::string>& raw_args) {
         return 2;
     } catch (const texr::InputError& e) {
         std::fprintf(stderr, "texr: %s\n", e.what());
-        return 1;
+        return trouble_status;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "texr: out of memory\n");
-        return 1;
+        return trouble_status;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "texr: internal error: %s\n", e.what());
-        return 1;
+        return trouble_status;
     }
 }
 
@@ -561,7 +570,7 @@ int main(int argc, char** argv) {
     errno = 0;
     if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
         std::fprintf(stderr, "texr: could not write to standard output%s%s\n", errno ? ": " : "", errno ? std::strerror(errno) : "");
-        return code == 0 ? 1 : code;
+        return std::max(code, trouble_status);
     }
     return code;
 }

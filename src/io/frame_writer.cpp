@@ -8,7 +8,6 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
-#include <optional>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -154,10 +153,13 @@ extern "C" void remove_partial_outputs(int signal_number) {
     std::raise(signal_number);
 }
 
-// Lists `path` while it lives (not if it is too long or every slot is taken).
+// Lists one path at a time for the handler, from list() to unlist() or the end of its life
+// (not a path too long, nor when every slot is taken).
 class ListedPartialOutput {
 public:
-    explicit ListedPartialOutput(const std::string& path) {
+    ListedPartialOutput() = default;
+    void list(const std::string& path) {
+        unlist();
         if (path.size() > PATH_MAX) return;
         for (PartialOutput& p : partial_outputs) {
             bool free = false;
@@ -170,11 +172,13 @@ public:
             return;
         }
     }
-    ~ListedPartialOutput() {
+    void unlist() {
         if (!slot_) return;
         slot_->listed.store(false);
         slot_->in_use.store(false);
+        slot_ = nullptr;
     }
+    ~ListedPartialOutput() { unlist(); }
     ListedPartialOutput(const ListedPartialOutput&) = delete;
     ListedPartialOutput& operator=(const ListedPartialOutput&) = delete;
 
@@ -206,6 +210,7 @@ bool write_all(int fd, const std::vector<std::uint8_t>& bytes) {
     while (done < bytes.size()) {
         const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
         if (n < 0 && errno == EINTR) continue;
+        if (n == 0) errno = EIO;  // (no progress, and no reason given)
         if (n <= 0) return false;
         done += std::size_t(n);
     }
@@ -221,10 +226,10 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     // the file in one step), whatever the length of the file's own name; numbered, so that
     // writes from several threads of one process never share one. It is listed for the signal
     // handler before the file is made (a signal between would find nothing to remove), and
-    // the handler's flag read after (a write that starts while it runs makes no file).
+    // the handler's flag read after (a write that reads it set makes no file).
     static std::atomic<unsigned> writes{0};
     std::string temporary;
-    std::optional<ListedPartialOutput> listed;
+    ListedPartialOutput listed;
     const auto cannot_write = [&](int error) {
         if (error == ECANCELED) return InputError(requested, 0, "cannot write output file: texr is being stopped by a signal");
         return InputError(requested, 0, std::string("cannot write output file: ") + std::strerror(error));
@@ -236,11 +241,12 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
     const auto make_named = [&](auto make) {
         for (int attempt = 0; attempt < 100; ++attempt) {
             temporary = folder + ".texr-" + std::to_string(::getpid()) + "-" + std::to_string(writes++) + ".tmp";
-            listed.reset();
-            listed.emplace(temporary);
+            listed.list(temporary);
             if (stopping.load()) return ECANCELED;
             if (make()) return 0;
-            if (errno != EEXIST) return errno;
+            const int error = errno;
+            listed.unlist();  // (not ours to remove)
+            if (error != EEXIST) return error;
         }
         return EEXIST;
     };
@@ -279,6 +285,7 @@ void write_file_atomically(const std::string& requested, const std::vector<std::
             ::close(fd);
             if (error == ECANCELED) throw cannot_write(error);
             // (no /proc, say: the bytes are written again, to a named file)
+            listed.unlist();
             write_file_atomically(requested, bytes, TemporaryFile::named);
             return;
         }

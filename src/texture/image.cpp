@@ -673,6 +673,12 @@ stb_decode::Pixels decode(const std::string& path) {
 
 }  // namespace
 
+bool image_file_is_16_bit(const std::string& path) {
+    require_file(path, "an image file");
+    const std::vector<unsigned char> file = file_bytes(path);
+    return stb_decode::is_16_bit(file.data(), int(file.size()));
+}
+
 Image load_image(const std::string& path, ColorSpace space) {
     require_file(path, "an image file");
     const stb_decode::Pixels d = decode(path);

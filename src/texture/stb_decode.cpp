@@ -52,6 +52,8 @@ namespace texr::stb_decode {
 
 bool is_hdr(const unsigned char* bytes, int length) { return stbi_is_hdr_from_memory(bytes, length) != 0; }
 
+bool is_16_bit(const unsigned char* bytes, int length) { return stbi_is_16_bit_from_memory(bytes, length) != 0; }
+
 bool header_size(const unsigned char* bytes, int length, int& width, int& height) {
     int channels = 0;
     return stbi_info_from_memory(bytes, length, &width, &height, &channels) != 0;

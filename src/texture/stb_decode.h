@@ -17,6 +17,8 @@ struct Pixels {
 };
 
 bool is_hdr(const unsigned char* bytes, int length);
+// Whether stb_image reads 16 bits a channel from the image (a PNG, Photoshop file or PPM/PGM).
+bool is_16_bit(const unsigned char* bytes, int length);
 
 // The image's size as its header gives it, without decoding (false if stb_image cannot
 // read the header). For a GIF, the size of its logical screen.

@@ -2,8 +2,9 @@
 // Written atomically: the bytes go to a temporary file beside the target, which is renamed
 // over it only when complete, so a failure never leaves a half-written frame and never
 // destroys the previous one. The temporary file has no name while it is written, where the
-// system allows, so that even SIGKILL leaves nothing; a named one is removed by a signal that
-// stops the program, where it calls remove_partial_outputs_on_signals.
+// system allows, so that even SIGKILL then leaves nothing (only in the moment between its
+// link and rename is it named); a named one is removed by a signal that stops the program,
+// where it calls remove_partial_outputs_on_signals.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -53,7 +54,8 @@ void write_frame(const Framebuffer& fb, const std::string& path);
 // under way that have a name are removed before the signal ends the process as it would have,
 // so that a render stopped while writing (Ctrl-C) leaves no partial file. Only where the
 // signal's action is still the default; the library alone installs nothing. (SIGKILL cannot
-// be caught: it leaves a named temporary file behind, an unnamed one never.)
+// be caught: it leaves a named temporary file behind; an unnamed one only if it comes in the
+// moment between the file's link and its rename.)
 void remove_partial_outputs_on_signals();
 
 }  // namespace texr

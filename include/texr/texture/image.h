@@ -210,4 +210,8 @@ constexpr int max_texture_side = 16384;
 // Throws InputError naming the file when it cannot be read.
 Image load_image(const std::string& path, ColorSpace space);
 
+// Whether the image file holds 16 bits a channel (a PNG or Photoshop file: load_image reads
+// such a file's high bytes; it refuses a 16-bit PPM/PGM). Throws InputError as load_image.
+bool image_file_is_16_bit(const std::string& path);
+
 }  // namespace texr
