@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -11,6 +12,7 @@
 
 #include "helpers.h"
 #include "texr/render/renderer.h"
+#include "texr/scene/parser.h"
 
 using namespace texr;
 
@@ -205,6 +207,40 @@ TEST_CASE("stress: UVs offset by 1e5 render the same as offset 0 (re-based per t
             worst = std::max(worst, glm::length(frames[0].color[i] - frames[1].color[i]));
         CHECK(worst <= 1e-6f);
         CHECK(check_frame(frames[0]).drawn > 1000);
+    }
+}
+
+TEST_CASE("stress: UVs offset by 1e5 and 1e6 in an OBJ file render the same as offset 0") {
+    // The same tolerance as above. A float keeps 100000.1 only to 1/128 (100000.1015625), so
+    // an OBJ's UVs must be read as doubles, as a scene file's are, for the texture not to
+    // shift by up to a fifth of a texel here (the frames differed by up to 206 levels of 255
+    // in a review's trial, 2026-11-30).
+    const std::string dir = testing::scratch_folder("obj-uv-offset");
+    for (const Filter filter : {Filter::bilinear, Filter::trilinear}) {
+        Framebuffer frames[3] = {Framebuffer(1, 1, Color(0.0f)), Framebuffer(1, 1, Color(0.0f)), Framebuffer(1, 1, Color(0.0f))};
+        for (int k = 0; k < 3; ++k) {
+            const double offset = k == 0 ? 0.0 : k == 1 ? 1e5 : 1e6;
+            const auto vt = [&](double u, double v) {  // ("vt 100000.1 100000.2")
+                char line[64];
+                std::snprintf(line, sizeof line, "vt %.1f %.1f\n", offset + u, offset + v);
+                return std::string(line);
+            };
+            testing::write_text(dir + "/quad.obj", "v -50 0 10\nv 50 0 10\nv 50 0 -90\nv -50 0 -90\n" + vt(0.1, 0.2) + vt(25.1, 0.2) +
+                                                       vt(25.1, 25.2) + vt(0.1, 25.2) + "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
+            testing::write_text(dir + "/scene.txt", "size 128 128\ncamera eye 0 1 0 target 0 0.75 -4 fov 60 near 0.05 far 1000\n"
+                                                    "texture t file " + testing::source_path("models/textures/uvgrid.png") +
+                                                    " filter " + filter_name(filter) + "\nmaterial m texture t\nmesh quad.obj material m\n");
+            RenderStats stats;
+            frames[k] = render(load_scene(dir + "/scene.txt"), {}, stats);
+        }
+        for (int k = 1; k < 3; ++k) {
+            float worst = 0.0f;
+            for (std::size_t i = 0; i < frames[0].color.size(); ++i)
+                worst = std::max(worst, glm::length(frames[0].color[i] - frames[k].color[i]));
+            CAPTURE(k);
+            CHECK(worst <= 1e-6f);
+        }
+        CHECK(check_frame(frames[0]).drawn > 4000);
     }
 }
 

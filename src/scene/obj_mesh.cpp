@@ -74,6 +74,9 @@ struct ObjLines {
     // it, and 0 here).
     std::vector<float> v_numbers, v_rgb, vn_numbers, vt_numbers;
     std::vector<int> v_lines, vn_lines, vt_lines;
+    // The vt lines' u and v as doubles, which the mesh takes (as a scene file's triangles do):
+    // tinyobjloader's floats would keep UVs near 1e5 to 1/128 of a period.
+    std::vector<double> vt_exact;
 };
 
 // One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
@@ -347,7 +350,10 @@ ObjLines read_obj_lines(const std::string& path) {
             if (keyword == "v") keep(out.v_numbers, 0, 3), out.v_lines.push_back(line_number);
             if (keyword == "v" && count == 6) keep(out.v_rgb, 3, 3);
             if (keyword == "vn") keep(out.vn_numbers, 0, 3), out.vn_lines.push_back(line_number);
-            if (keyword == "vt") keep(out.vt_numbers, 0, 2), out.vt_lines.push_back(line_number);  // (values[1]: 0 if not given)
+            if (keyword == "vt") {
+                keep(out.vt_numbers, 0, 2), out.vt_lines.push_back(line_number);  // (values[1]: 0 if not given)
+                out.vt_exact.push_back(values[0]), out.vt_exact.push_back(values[1]);
+            }
         } else if (keyword == "mtllib") {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
             // `mtllib ../../dev/zero` read until memory ran out).
@@ -618,8 +624,9 @@ void face_triangles(const std::vector<glm::vec3>& p, const glm::dvec3& normal, s
 }
 
 // The mesh vertex of a face corner: its position, colour (sRGB in the file, as a scene file's
-// colours), normal (0 where the corner has none) and texture coordinates (0 where none).
-Vertex obj_vertex(const tinyobj::attrib_t& attrib, const tinyobj::index_t& idx, bool colors) {
+// colours), normal (0 where the corner has none) and texture coordinates (0 where none; from
+// texr's own reading, `uvs`, which has tinyobjloader's count: same_numbers).
+Vertex obj_vertex(const tinyobj::attrib_t& attrib, const std::vector<double>& uvs, const tinyobj::index_t& idx, bool colors) {
     Vertex v;
     const std::size_t p = 3 * std::size_t(idx.vertex_index);
     v.position = {attrib.vertices[p], attrib.vertices[p + 1], attrib.vertices[p + 2]};
@@ -630,7 +637,7 @@ Vertex obj_vertex(const tinyobj::attrib_t& attrib, const tinyobj::index_t& idx, 
     }
     if (idx.texcoord_index >= 0) {
         const std::size_t t = 2 * std::size_t(idx.texcoord_index);
-        v.uv = {attrib.texcoords[t], attrib.texcoords[t + 1]};
+        v.uv = {uvs[t], uvs[t + 1]};
     }
     return v;
 }
@@ -820,7 +827,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         std::uint32_t& vertex = flat_vertex[corner_of[std::size_t(k)]];
                         if (vertex == no_vertex) {
                             vertex = std::uint32_t(mesh.vertices.size());
-                            mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
+                            mesh.vertices.push_back(obj_vertex(attrib, lines.vt_exact, idx, lines.colors));
                             mesh.vertices.back().normal = flat_normal;
                             position_of.push_back(idx.vertex_index);
                             normal_from.push_back(0);
@@ -831,7 +838,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                     auto found = vertex_of.find(key);
                     if (found == vertex_of.end()) {
                         found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
-                        mesh.vertices.push_back(obj_vertex(attrib, idx, lines.colors));
+                        mesh.vertices.push_back(obj_vertex(attrib, lines.vt_exact, idx, lines.colors));
                         position_of.push_back(idx.vertex_index);
                         normal_from.push_back(has_normal ? 0 : group);
                     }
