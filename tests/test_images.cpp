@@ -63,6 +63,42 @@ TEST_CASE("PNG, TGA, BMP and JPEG load with v = 0 at the bottom row of the file"
     }
 }
 
+TEST_CASE("PPM and PGM samples are read against the header's largest value") {
+    // Sample k of largest value m means k / m (stb_image reads k / 255 whatever m is): read as
+    // data (k / 255 of the 8-bit texel), so the texel is k / m to within half an 8-bit step,
+    // exactly where m divides 255.
+    const std::string dir = testing::scratch_folder("pnm-largest");
+    struct Case {
+        std::string header, samples;
+        int largest;
+    };
+    for (const Case& c : {Case{"P6\n2 1\n3\n", std::string("\x00\x01\x02\x03\x03\x00", 6), 3},
+                          Case{"P5\n3 1\n15\n", std::string("\x0f\x07\x01", 3), 15},
+                          Case{"P5\n3 1\n200\n", std::string("\x64\xc8\x01", 3), 200},
+                          Case{"P5\n2 1\n255\n", std::string("\x80\xff", 2), 255}}) {
+        CAPTURE(c.header);
+        testing::write_text(dir + "/t.pnm", c.header + c.samples);
+        const Image image = load_image(dir + "/t.pnm", ColorSpace::linear);
+        const bool rgb = c.header[1] == '6';
+        REQUIRE(image.width() == int(c.samples.size()) / (rgb ? 3 : 1));
+        for (int i = 0; i < image.width(); ++i)
+            for (int channel = 0; channel < 3; ++channel) {
+                const int k = static_cast<unsigned char>(c.samples[std::size_t(rgb ? 3 * i + channel : i)]);
+                const double want = double(k) / c.largest;
+                const double tolerance = 255 % c.largest == 0 ? 1e-6 : 0.5 / 255.0 + 1e-6;
+                CHECK(std::fabs(image.texel(i, 0)[channel] - want) <= tolerance);
+            }
+    }
+    // A sample above the largest value is refused.
+    testing::write_text(dir + "/over.pgm", std::string("P5\n2 1\n3\n\x03\x04", 12));
+    try {
+        load_image(dir + "/over.pgm", ColorSpace::linear);
+        FAIL("over.pgm was read");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()) == dir + "/over.pgm: not a readable image: a sample of 4 above the PPM/PGM header's largest value, 3");
+    }
+}
+
 TEST_CASE("Radiance HDR loads as linear float, values above 1 kept") {
     const std::string dir = testing::scratch_folder("hdr");
     const float data[2 * 3] = {4.0f, 0.5f, 0.25f, 0.125f, 16.0f, 1.0f};  // exact in RGBE

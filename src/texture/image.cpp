@@ -142,8 +142,10 @@ std::string unreadable(const char* reason) {
 // (the rest filled with whatever it has; the header says how long the file must be), one
 // whose header ends before its largest value (its texels are then never read: the image
 // holds whatever memory held), a 16-bit one (read as 8-bit samples), a size of 0. Returns the
-// message for such a file, or "".
-std::string short_pnm(const std::vector<unsigned char>& file) {
+// message for such a file, or "". `largest`: the header's largest value (255 for other files),
+// which stb_image does not read: decode scales samples by it.
+std::string short_pnm(const std::vector<unsigned char>& file, int& largest) {
+    largest = 255;
     if (file.size() < 2 || file[0] != 'P' || (file[1] != '5' && file[1] != '6')) return "";
     std::size_t at = 2;
     const auto get = [&]() -> int { return at < file.size() ? file[at++] : EOF; };
@@ -163,6 +165,7 @@ std::string short_pnm(const std::vector<unsigned char>& file) {
     // (stb_image would read 16-bit samples as 8-bit ones, and a side of 0 as an empty image)
     if (values[2] > 255) return "not a readable image: a 16-bit PPM/PGM (largest value " + std::to_string(values[2]) + "); texr reads 8-bit ones";
     if (values[2] == 0) return "not a readable image: its PPM/PGM header gives a largest value of 0";
+    largest = int(values[2]);
     if (values[0] == 0 || values[1] == 0 || values[0] > (1 << 24) || values[1] > (1 << 24))
         return "not a readable image: its header gives a size of " + std::to_string(values[0]) + "x" + std::to_string(values[1]);
     const long long needed = values[0] * values[1] * (file[1] == '6' ? 3 : 1);
@@ -630,7 +633,8 @@ bool header_size(const std::vector<unsigned char>& file, int& width, int& height
 stb_decode::Pixels decode(const std::string& path) {
     std::vector<unsigned char> file = file_bytes(path);
     drop_empty_png_data(file);
-    if (const std::string cut = short_pnm(file); !cut.empty()) throw InputError(path, 0, cut);
+    int pnm_largest = 255;
+    if (const std::string cut = short_pnm(file, pnm_largest); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_bmp(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string cut = short_png(file); !cut.empty()) throw InputError(path, 0, cut);
     if (const std::string damage = jpeg_damage(file); !damage.empty()) throw InputError(path, 0, damage);
@@ -668,6 +672,20 @@ stb_decode::Pixels decode(const std::string& path) {
     if (twice && (first_width != d.width || first_height != d.height || first_hash != hash_of(d)))
         throw InputError(path, 0, "not a readable image: it leaves texels undefined (a palette index beyond its palette, or "
                                   "image data it does not hold)");
+    // A PPM/PGM's sample k of largest value m < 255 means k / m: scaled to the nearest of the
+    // 8-bit values, round(255 k / m) (exact where m divides 255: 1, 3, 5, 15, 17, 51, 85).
+    if (pnm_largest < 255) {
+        auto* texels = static_cast<unsigned char*>(d.data.get());
+        const std::size_t count = std::size_t(d.width) * std::size_t(d.height);
+        for (std::size_t i = 0; i < count; ++i)
+            for (std::size_t c = 0; c < 3; ++c) {  // (alpha: stb_image's 255)
+                unsigned char& k = texels[4 * i + c];
+                if (k > pnm_largest)
+                    throw InputError(path, 0, "not a readable image: a sample of " + std::to_string(int(k)) +
+                                                  " above the PPM/PGM header's largest value, " + std::to_string(pnm_largest));
+                k = static_cast<unsigned char>((255 * k + pnm_largest / 2) / pnm_largest);
+            }
+    }
     return d;
 }
 
