@@ -181,7 +181,8 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
                    "texture t file " + source_path("models/textures/checker.png") + "\n\ntexture t file " +
                        source_path("models/textures/checker.png") + "\n" + good_scene,
                    "scene.txt:3: texture 't' is defined a second time (first on line 1)");
-    expect_failure("fov-180", "camera fov 180\n" + good_scene, "scene.txt:1: fov must be between 0 and 180 degrees (not inclusive), got 180");
+    expect_failure("fov-180", "camera fov 180\n" + good_scene, "scene.txt:1: fov must be at least 1e-6 degrees and below 180, got 180");
+    expect_failure("fov-tiny", "camera fov 9.9e-7\n" + good_scene, "scene.txt:1: fov must be at least 1e-6 degrees and below 180, got 9.9e-07");
     // An option once per command: of two values the last would silently win. (translate,
     // rotate and scale compose, and v, n, c give vertices: those repeat.)
     const std::string textured = "texture t file " + source_path("models/textures/checker.png");
@@ -254,7 +255,7 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     // Checks made once the whole command is read name the line of the value they refuse.
     const std::string objects = "material red color 1 0 0\ntriangle material red v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
     expect_failure("continued-fov", "camera eye 0 0 3 \\\n  fov 0 \\\n  near 0.1 far 10\n" + objects,
-                   "scene.txt:2: fov must be between 0 and 180 degrees");
+                   "scene.txt:2: fov must be at least 1e-6 degrees and below 180");
     expect_failure("continued-near-far", "camera near 5 \\\n  far 1 \\\n  fov 40\n" + objects, "scene.txt:2: camera needs 0 < near < far");
     expect_failure("continued-eye", "camera eye 0 0 3 \\\n  target 0 0 3 \\\n  fov 40\n" + objects,
                    "scene.txt:2: camera eye and target must differ");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <sstream>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -241,6 +242,23 @@ TEST_CASE("stress: UVs offset by 1e5 and 1e6 in an OBJ file render the same as o
             CHECK(worst <= 1e-6f);
         }
         CHECK(check_frame(frames[0]).drawn > 4000);
+    }
+}
+
+TEST_CASE("stress: down to the smallest field of view, 1e-6 degrees, a floor the eye looks at fills the frame") {
+    // The eye looks at a point of a floor 1000 wide, from 4 away, 3.6 degrees below the
+    // horizon: at a field of view of a degree or less the floor covers every pixel (it did not
+    // at 1e-17 degrees, where a review's floor vanished).
+    for (const std::string fov : {"1", "1e-3", "1e-6"}) {
+        CAPTURE(fov);
+        std::istringstream in(std::string("size 64 64\ncamera eye 0.01 1 0 target 0.013 0.75 -4 up 0 1 0 fov ") + fov +
+                              " near 0.05 far 1000\nmaterial m color 1 0 0\n"
+                              "quad material m v -500 0 10 0 0 v 500 0 10 1 0 v 500 0 -990 1 1 v -500 0 -990 0 1\n");
+        const Scene scene = parse_scene(in, "fov.scene");
+        RenderStats stats;
+        const Framebuffer fb = render(scene, {}, stats);
+        CHECK(stats.pixels_shaded == 64u * 64u);
+        CHECK(check_frame(fb).finite);
     }
 }
 

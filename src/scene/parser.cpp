@@ -299,10 +299,12 @@ private:
             else if (key == "far") cam.far = c.number("the far distance"), far_at = c.mark();
             else c.unknown_option("camera", key, "eye, target, up, fov, near or far");
         }
-        if (!(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
+        // Below 1e-6 degrees a pixel's angle comes near the rounding of the view transform
+        // (a review's floor, whose target the eye looked at, vanished at 1e-17 degrees).
+        if (!(cam.fov_y_degrees >= 1e-6 && cam.fov_y_degrees < 180.0)) {
             std::ostringstream given;
             given << cam.fov_y_degrees;
-            c.fail_at(fov_at, "fov must be between 0 and 180 degrees (not inclusive), got " + given.str());
+            c.fail_at(fov_at, "fov must be at least 1e-6 degrees and below 180, got " + given.str());
         }
         // (near <= 0 is near's fault alone; far <= near is the later of the two's)
         if (!(cam.near > 0.0)) c.fail_at(near_at, "camera needs 0 < near < far");
