@@ -27,6 +27,10 @@ std::string format(const char* pattern, double a = 0, double b = 0, double c = 0
     return out;
 }
 
+// A lattice coordinate: to 4 decimals, but in powers of ten from 1e15 on, where no fraction is
+// left to show (UVs near 1e308 took 309 digits).
+std::string coordinate(double x) { return format(std::fabs(x) < 1e15 ? "%.4f" : "%.6e", x); }
+
 // A colour channel: %.5f, or %.6g from 1e6 on (an HDR texel near the float maximum would take
 // 39 digits), in parentheses with its neighbours. No "-0.00000" (for -0 or a tiny negative
 // value) and no "-nan".
@@ -358,19 +362,18 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         const bool cell = t.sampler.registration == Registration::cell;
         const double lx = cell ? u * w - 0.5 : u * (w - 1);
         const double ly = cell ? v * h - 0.5 : v * (h - 1);
-        out += format(cell ? "    lattice coordinates (texel centres at whole numbers, before wrapping): x = u resU - 1/2 = %.4f,\n"
-                             "    y = v resV - 1/2 = %.4f\n"
-                           : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (resU - 1) = %.4f,\n"
-                             "    y = v (resV - 1) = %.4f\n",
-                      lx, ly);
+        out += (cell ? "    lattice coordinates (texel centres at whole numbers, before wrapping): x = u resU - 1/2 = " + coordinate(lx) +
+                           ",\n    y = v resV - 1/2 = " + coordinate(ly) + "\n"
+                     : "    lattice coordinates (nodes at whole numbers, before wrapping): x = u (resU - 1) = " + coordinate(lx) +
+                           ",\n    y = v (resV - 1) = " + coordinate(ly) + "\n");
         if (t.sampler.filter == Filter::nearest)  // (it rounds on its own lattice: base_taps, below)
             out += cell ? "    (the lattice that bilinear reads; nearest takes floor(u resU), below)\n"
                         : "    (the lattice that bilinear reads; nearest rounds it, below)\n";
         if (e.uv_shift != glm::dvec2(0.0)) {  // (step 3's re-based u and v: whole periods from the scene's)
             const double su = u + e.uv_shift.x, sv = v + e.uv_shift.y;
-            out += format("    (of the re-based u and v; of the scene's, x = %.4f and y = %.4f: whole periods apart, the same\n"
-                          "    texels after wrapping)\n",
-                          cell ? su * w - 0.5 : su * (w - 1), cell ? sv * h - 0.5 : sv * (h - 1));
+            out += "    (of the re-based u and v; of the scene's, x = " + coordinate(cell ? su * w - 0.5 : su * (w - 1)) +
+                   " and y = " + coordinate(cell ? sv * h - 0.5 : sv * (h - 1)) + ": whole periods apart, the same\n"
+                   "    texels after wrapping)\n";
         }
         out += base_taps(t, u, v);
         // The footprint in texels of the lattice: node registration counts node spacings.
