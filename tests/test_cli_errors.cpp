@@ -183,6 +183,7 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
                    "scene.txt:3: texture 't' is defined a second time (first on line 1)");
     expect_failure("fov-180", "camera fov 180\n" + good_scene, "scene.txt:1: fov must be at least 1e-6 degrees and below 180, got 180");
     expect_failure("fov-tiny", "camera fov 9.9e-7\n" + good_scene, "scene.txt:1: fov must be at least 1e-6 degrees and below 180, got 9.9e-07");
+    expect_failure("fov-just-below", "camera fov 9.9999999e-7\n" + good_scene, "below 180, got 9.9999999e-07");  // (not 1e-06)
     // An option once per command: of two values the last would silently win. (translate,
     // rotate and scale compose, and v, n, c give vertices: those repeat.)
     const std::string textured = "texture t file " + source_path("models/textures/checker.png");
@@ -804,6 +805,18 @@ TEST_CASE("texr explain prints lattice coordinates from 1e15 on in powers of ten
         const std::string want = wrap == "clamp" ? "x = u resU - 1/2 = 2.000000e+20,\n    y = v resV - 1/2 = 0.5625\n"
                                                  : "x = u resU - 1/2 = 0.0000,\n    y = v resV - 1/2 = 0.5625\n    (of the re-based u and "
                                                    "v; of the scene's, x = 1.200000e+15 and y = 0.5625:";
+        CAPTURE(r.output);
+        CHECK(r.output.find(want) != std::string::npos);
+    }
+    // Nearest's u resU, and border wrap's t_u (u itself), the same way: u = 1e300 on the 2 x 2
+    // texture is u resU = 2e300 and t_u = 1e300.
+    for (const auto& [options, want] : std::vector<std::pair<std::string, std::string>>{
+             {"filter nearest wrap clamp", "u resU = 2.000000e+300, v resV = 1.0625; column\n"},
+             {"filter bilinear wrap border", "t_u = 1.000000e+300, t_v = 0.531250 (outside [0, 1]"}}) {
+        write_text(dir + "/scene.txt", "size 16 16\ncamera eye 0 0 0 target 0 0 -1 fov 90\ntexture t file t.ppm " + options +
+                                           "\nmaterial m texture t\n"
+                                           "quad material m v -2 -2 -2 1e300 0 v 2 -2 -2 1e300 0 v 2 2 -2 1e300 1 v -2 2 -2 1e300 1\n");
+        const RunResult r = run_texr("explain " + dir + "/scene.txt 8 7");
         CAPTURE(r.output);
         CHECK(r.output.find(want) != std::string::npos);
     }
@@ -1828,7 +1841,7 @@ TEST_CASE("scene files with a byte order mark or a NUL byte, explain lines of an
     expect_failure("nul", good_scene + std::string("material m color 1 1 1\0 0\n", 27), "scene.txt:5: a NUL byte");
     // explain formats each line whole: %.4f of a lattice coordinate near 1e300 was over 300
     // characters, and the line's "y = " and newline were lost past 255. (Such coordinates are
-    // now printed in powers of ten.)
+    // now printed in powers of ten, so the lines are short; they must still be whole.)
     write_text(dir + "/huge.txt", "size 64 48\ntexture t file " + source_path("models/textures/checker.png") +
                                       "\nmaterial m texture t\n"
                                       "triangle material m v -1 -1 0 -1e300 0 v 1 -1 0 1e300 0 v 0 1 0 0 1e300\n");

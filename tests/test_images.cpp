@@ -89,6 +89,18 @@ TEST_CASE("PPM and PGM samples are read against the header's largest value") {
                 CHECK(std::fabs(image.texel(i, 0)[channel] - want) <= tolerance);
             }
     }
+    // A comment may start right after a number: the header's numbers are 2, 1 and the value
+    // after the comment (stb_image reads them so, and texr scales by that value).
+    for (const auto& [file, white] : std::vector<std::pair<std::string, double>>{
+             {"P5\n2 1#200 GIMP\n255\n" + std::string("\x00\x80", 2), 128.0 / 255.0},  // largest 255: 0x80 as is
+             {"P5\n2 1#5\n3\n" + std::string("\x00\x03", 2), 1.0},                    // largest 3: 3 is white
+             {"P5\n2 1#3\n255\n" + std::string("\x00\xff", 2), 1.0}}) {              // largest 255 (was refused)
+        CAPTURE(file);
+        testing::write_text(dir + "/c.pgm", file);
+        const Image image = load_image(dir + "/c.pgm", ColorSpace::linear);
+        CHECK(image.texel(0, 0).x == 0.0f);
+        CHECK(std::fabs(image.texel(1, 0).x - white) <= 1e-6);
+    }
     // A sample above the largest value is refused.
     testing::write_text(dir + "/over.pgm", std::string("P5\n2 1\n3\n\x03\x04", 12));
     try {

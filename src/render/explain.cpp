@@ -27,9 +27,14 @@ std::string format(const char* pattern, double a = 0, double b = 0, double c = 0
     return out;
 }
 
-// A lattice coordinate: to 4 decimals, but in powers of ten from 1e15 on, where no fraction is
-// left to show (UVs near 1e308 took 309 digits).
-std::string coordinate(double x) { return format(std::fabs(x) < 1e15 ? "%.4f" : "%.6e", x); }
+// A texture or lattice coordinate: to 4 (or 6) decimals, but in powers of ten from 1e15 on,
+// where no fraction is left to show (UVs near 1e308 took 309 digits). No "-0.0000", no "-nan".
+std::string coordinate(double x, int decimals = 4) {
+    if (std::isnan(x)) return "nan";
+    if (!(std::fabs(x) < 1e15)) return format("%.6e", x);
+    const std::string shown = format(decimals == 6 ? "%.6f" : "%.4f", x);
+    return shown.find_first_not_of("-0.") == std::string::npos && shown[0] == '-' ? shown.substr(1) : shown;
+}
 
 // A colour channel: %.5f, or %.6g from 1e6 on (an HDR texel near the float maximum would take
 // 39 digits), in parentheses with its neighbours. No "-0.00000" (for -0 or a tiny negative
@@ -155,13 +160,15 @@ std::string base_taps(const Texture& t, double u, double v) {
         const int i = reconstruct_detail::nearest_tap(s.registration, s.wrap_u, u, w, image.inv_width());
         const int j = reconstruct_detail::nearest_tap(s.registration, s.wrap_v, v, h, image.inv_height());
         const std::string which = s.registration == Registration::cell
-                                      ? format("    the nearest texel (resU x resV = %.0f x %.0f): u resU = %.4f, v resV = %.4f; column\n"
-                                               "    floor(u resU), row floor(v resV), then wrapped (the slide's lu = min(floor(t_u resU),\n"
-                                               "    resU - 1) on the wrapped t_u)",
-                                               double(w), double(h), u * w, v * h)
-                                      : format("    the nearest node (resU x resV = %.0f x %.0f): u (resU - 1) = %.4f, v (resV - 1) = %.4f;\n"
-                                               "    column round(u (resU - 1)), row round(v (resV - 1)), then wrapped",
-                                               double(w), double(h), u * (w - 1), v * (h - 1));
+                                      ? format("    the nearest texel (resU x resV = %.0f x %.0f): ", double(w), double(h)) +
+                                            "u resU = " + coordinate(u * w) + ", v resV = " + coordinate(v * h) +
+                                            "; column\n"
+                                            "    floor(u resU), row floor(v resV), then wrapped (the slide's lu = min(floor(t_u resU),\n"
+                                            "    resU - 1) on the wrapped t_u)"
+                                      : format("    the nearest node (resU x resV = %.0f x %.0f): ", double(w), double(h)) +
+                                            "u (resU - 1) = " + coordinate(u * (w - 1)) + ", v (resV - 1) = " + coordinate(v * (h - 1)) +
+                                            ";\n"
+                                            "    column round(u (resU - 1)), row round(v (resV - 1)), then wrapped";
         return which + ": texel " + at(i, j) + " (row 0 is the image's bottom),\n    linear RGBA " + value(i, j) + "\n";
     }
     if (s.filter != Filter::bilinear) return "";
@@ -351,8 +358,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         // beyond the edge are the border colour, and a filter blends them with those inside.
         const bool outside = (t.sampler.wrap_u == Wrap::border && outside_border(u)) || (t.sampler.wrap_v == Wrap::border && outside_border(v));
         const bool slide_test = t.sampler.registration == Registration::node && t.sampler.filter != Filter::ewa;
-        out += format("    the wrap mode's coordinate (the slides' form): t_u = %.6f, t_v = %.6f", wrapped(t.sampler.wrap_u, u),
-                      wrapped(t.sampler.wrap_v, v)) +
+        out += "    the wrap mode's coordinate (the slides' form): t_u = " + coordinate(wrapped(t.sampler.wrap_u, u), 6) +
+                   ", t_v = " + coordinate(wrapped(t.sampler.wrap_v, v), 6) +
                (!outside                              ? "\n"
                 : slide_test                          ? " (outside [0, 1]: the border colour)\n"
                 : t.sampler.filter == Filter::nearest ? " (outside [0, 1]: texels beyond the image's edge are the border\n"

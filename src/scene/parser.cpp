@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -302,9 +303,9 @@ private:
         // Below 1e-6 degrees a pixel's angle comes near the rounding of the view transform
         // (a review's floor, whose target the eye looked at, vanished at 1e-17 degrees).
         if (!(cam.fov_y_degrees >= 1e-6 && cam.fov_y_degrees < 180.0)) {
-            std::ostringstream given;
-            given << cam.fov_y_degrees;
-            c.fail_at(fov_at, "fov must be at least 1e-6 degrees and below 180, got " + given.str());
+            char given[32];  // (the shortest text that reads back as the value: 9.9999999e-07, not 1e-06)
+            const auto end = std::to_chars(given, given + sizeof given, cam.fov_y_degrees).ptr;
+            c.fail_at(fov_at, "fov must be at least 1e-6 degrees and below 180, got " + std::string(given, end));
         }
         // (near <= 0 is near's fault alone; far <= near is the later of the two's)
         if (!(cam.near > 0.0)) c.fail_at(near_at, "camera needs 0 < near < far");

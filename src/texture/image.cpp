@@ -151,8 +151,11 @@ std::string short_pnm(const std::vector<unsigned char>& file, int& largest) {
     const auto get = [&]() -> int { return at < file.size() ? file[at++] : EOF; };
     long long values[3] = {0, 0, 0};  // width, height, largest value
     const char* const names[3] = {"width", "height", "largest value"};
+    // As stb_image reads it: the character that ends a number starts what comes before the
+    // next (a '#' right after the width begins a comment), and the one after the largest
+    // value ends the header.
+    int ch = get();
     for (int k = 0; k < 3; ++k) {
-        int ch = get();
         while (ch == '#' || std::isspace(ch)) {  // whitespace and comments before a number
             if (ch == '#')
                 while (ch != '\n' && ch != '\r' && ch != EOF) ch = get();
