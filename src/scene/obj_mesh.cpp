@@ -68,15 +68,15 @@ struct ObjLines {
     bool clean = false;
     std::vector<std::string> material_files;  // the .mtl files read
     bool colors = false;  // every v line has a colour (v x y z r g b)
-    // Each v, vn and vt line's numbers as texr reads them, as floats (as tinyobjloader keeps
-    // them; for vt u and v, v = 0 where not given), and the line: what tinyobjloader stores is
-    // compared with them (same_numbers), as its reading differs in corners (0e500 is NaN to
-    // it, and 0 here).
-    std::vector<float> v_numbers, v_rgb, vn_numbers, vt_numbers;
+    // Each v, vn and vt line's numbers as texr reads them, and the line: what tinyobjloader
+    // stores is compared with them (same_numbers, in floats, as tinyobjloader keeps them), as
+    // its reading differs in corners (0e500 is NaN to it, and 0 here). Positions, colours and
+    // normals as floats, as the mesh keeps them; each vt line's u and v (v = 0 where not
+    // given) as doubles, which the mesh takes (as a scene file's triangles do): floats would
+    // keep UVs near 1e5 to 1/128 of a period.
+    std::vector<float> v_numbers, v_rgb, vn_numbers;
+    std::vector<double> vt_numbers;
     std::vector<int> v_lines, vn_lines, vt_lines;
-    // The vt lines' u and v as doubles, which the mesh takes (as a scene file's triangles do):
-    // tinyobjloader's floats would keep UVs near 1e5 to 1/128 of a period.
-    std::vector<double> vt_exact;
 };
 
 // One line of an OBJ file as texr reads it: without its comment (and, on the first line, a
@@ -351,8 +351,8 @@ ObjLines read_obj_lines(const std::string& path) {
             if (keyword == "v" && count == 6) keep(out.v_rgb, 3, 3);
             if (keyword == "vn") keep(out.vn_numbers, 0, 3), out.vn_lines.push_back(line_number);
             if (keyword == "vt") {
-                keep(out.vt_numbers, 0, 2), out.vt_lines.push_back(line_number);  // (values[1]: 0 if not given)
-                out.vt_exact.push_back(values[0]), out.vt_exact.push_back(values[1]);
+                out.vt_numbers.push_back(values[0]), out.vt_numbers.push_back(values[1]);  // (values[1]: 0 if not given)
+                out.vt_lines.push_back(line_number);
             }
         } else if (keyword == "mtllib") {
             // tinyobjloader opens these itself, next to the OBJ: no folder or device (a review's
@@ -752,7 +752,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
     same_numbers(path, attrib.vertices, lines.v_numbers, lines.v_lines, 3, "v");
     same_numbers(path, attrib.colors, lines.colors ? lines.v_rgb : std::vector<float>(), lines.v_lines, 3, "v");
     same_numbers(path, attrib.normals, lines.vn_numbers, lines.vn_lines, 3, "vn");
-    same_numbers(path, attrib.texcoords, lines.vt_numbers, lines.vt_lines, 2, "vt");
+    same_numbers(path, attrib.texcoords, std::vector<float>(lines.vt_numbers.begin(), lines.vt_numbers.end()), lines.vt_lines, 2, "vt");
     Mesh mesh;
     mesh.source = path;
     mesh.has_uv = true;  // (until a face without vt)
@@ -827,7 +827,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                         std::uint32_t& vertex = flat_vertex[corner_of[std::size_t(k)]];
                         if (vertex == no_vertex) {
                             vertex = std::uint32_t(mesh.vertices.size());
-                            mesh.vertices.push_back(obj_vertex(attrib, lines.vt_exact, idx, lines.colors));
+                            mesh.vertices.push_back(obj_vertex(attrib, lines.vt_numbers, idx, lines.colors));
                             mesh.vertices.back().normal = flat_normal;
                             position_of.push_back(idx.vertex_index);
                             normal_from.push_back(0);
@@ -838,7 +838,7 @@ Mesh load_obj(const std::string& path, const ObjMaterialResolver& resolve) {
                     auto found = vertex_of.find(key);
                     if (found == vertex_of.end()) {
                         found = vertex_of.emplace(key, std::uint32_t(mesh.vertices.size())).first;
-                        mesh.vertices.push_back(obj_vertex(attrib, lines.vt_exact, idx, lines.colors));
+                        mesh.vertices.push_back(obj_vertex(attrib, lines.vt_numbers, idx, lines.colors));
                         position_of.push_back(idx.vertex_index);
                         normal_from.push_back(has_normal ? 0 : group);
                     }
