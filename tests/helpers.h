@@ -50,9 +50,19 @@ struct RunResult {
 
 // Runs the texr binary with the given argument string (already shell-quoted). With
 // timeout_seconds, a run that takes longer is killed (exit code 124): a hang fails the test.
+inline RunResult run_command(const std::string& command);
 inline RunResult run_texr(const std::string& arguments, int timeout_seconds = 0) {
     const std::string limit = timeout_seconds > 0 ? "timeout " + std::to_string(timeout_seconds) + " " : "";
-    const std::string command = limit + std::string(TEXR_BINARY) + " " + arguments + " 2>&1";
+    return run_command(limit + std::string(TEXR_BINARY) + " " + arguments + " 2>&1");
+}
+
+// The same, run in the folder `folder` (whose name holds no single quote).
+inline RunResult run_texr_in(const std::string& folder, const std::string& arguments) {
+    return run_command("cd '" + folder + "' && " + std::string(TEXR_BINARY) + " " + arguments + " 2>&1");
+}
+
+// Runs a shell command, its output (the command's redirections decide which) and exit code.
+inline RunResult run_command(const std::string& command) {
     RunResult r{-1, {}};
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return r;

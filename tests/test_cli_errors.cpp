@@ -3002,3 +3002,58 @@ TEST_CASE("texr compare: the same pixels, differences worked out by hand, tolera
     }
     CHECK(run_texr("compare --help").output.find("exit status: 0 the images match") != std::string::npos);
 }
+
+TEST_CASE("a file whose name starts with '-' is given after --, and a single-dash word that is no option says so") {
+    const std::string dir = scratch_folder("dash-names");
+    write_text(dir + "/-s.scene", good_scene);
+    // Run in the folder, so that the names start with '-' as typed.
+    RunResult r = run_texr_in(dir, "render ./-s.scene -o reference.ppm");
+    REQUIRE(r.exit_code == 0);
+    r = run_texr_in(dir, "render -- -s.scene -o out.ppm");  // (after --, -o is a second name)
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: texr render takes one scene file; '-o' is one too many\n");
+    r = run_texr_in(dir, "render -o -o.ppm -- -s.scene");
+    CHECK(r.exit_code == 0);
+    CHECK(read_file(dir + "/-o.ppm") == read_file(dir + "/reference.ppm"));
+    r = run_texr_in(dir, "render --output=-d.ppm -- -s.scene");
+    CHECK(r.exit_code == 0);
+    CHECK(read_file(dir + "/-d.ppm") == read_file(dir + "/reference.ppm"));
+    // Without --: an option texr does not know, and how to name the file.
+    r = run_texr_in(dir, "render -s.scene -o out.ppm");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: unknown option '-s.scene' for 'texr render' (a file of that name: put -- before it, or write it as './-s.scene')\n");
+    CHECK(!file_exists(dir + "/out.ppm"));
+    // A long option that is not one gets no such hint.
+    r = run_texr_in(dir, "render ./-s.scene --fast");
+    CHECK(r.output == "texr: unknown option '--fast' for 'texr render'\n");
+    // After --, --help and --name=value are names too.
+    for (const std::string name : {"--help", "--size=4x4"}) {
+        r = run_texr_in(dir, "render -o out.ppm -- " + name);
+        CAPTURE(name);
+        CHECK(r.exit_code == 1);
+        CHECK(r.output.find("texr: " + name + ": ") == 0);
+        CHECK(r.output.find("usage:") == std::string::npos);
+    }
+    CHECK(!file_exists(dir + "/out.ppm"));
+    // texr explain: SCENE X Y after --; a negative X is a coordinate either way.
+    r = run_texr_in(dir, "explain -- -s.scene 16 12");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("pixel (16, 12)") == 0);
+    r = run_texr_in(dir, "explain --size 8x6 -- -s.scene -1 0");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: X must be a pixel index from 0 to 7, got '-1'\n");
+    r = run_texr_in(dir, "explain -s.scene 16 12");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("unknown option '-s.scene' for 'texr explain' (a file of that name: put -- before it") != std::string::npos);
+    // texr compare: A and B after --.
+    write_text(dir + "/-a.ppm", read_file(dir + "/reference.ppm"));
+    r = run_texr_in(dir, "compare --max-diff 0 -- -a.ppm reference.ppm");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output == "32x24: the same pixels\n");
+    r = run_texr_in(dir, "compare -a.ppm reference.ppm");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: unknown option '-a.ppm' for 'texr compare' (a file of that name: put -- before it, or write it as './-a.ppm')\n");
+    r = run_texr_in(dir, "compare -- -a.ppm reference.ppm --max-diff 3");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output == "texr: texr compare takes two images A B; '--max-diff' is one too many\n");
+}

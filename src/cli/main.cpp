@@ -58,7 +58,8 @@ const char* explain_help =
     "colour, the normal and each light), and the colour written. --size, --span and\n"
     "--span-tolerance are render's (the other render options do not apply): with a --span mode\n"
     "that gives the pixel another (u, v) than u'/q, v'/q, the lookup reads those, with the\n"
-    "exact derivatives taken there, and explain says by how much they differ.\n";
+    "exact derivatives taken there, and explain says by how much they differ. What follows\n"
+    "-- is SCENE X Y, even where it starts with '-'.\n";
 
 const char* compare_help =
     "usage: texr compare A B [--max-diff N]\n"
@@ -74,6 +75,7 @@ const char* compare_help =
     "  --max-diff N   the largest difference that still counts as a match, 0..255\n"
     "                 (default 0: the same pixels)\n"
     "  -h, --help     show this help\n"
+    "  --             what follows is A and B, even where a name starts with '-'\n"
     "\n"
     "exit status: 0 the images match, 1 they differ (their sizes, or a pixel by more than\n"
     "N), 2 an image cannot be read, a bad command line, or standard output failed\n";
@@ -118,9 +120,27 @@ const char* render_help =
     "                      all frames, the first, which builds mip levels and\n"
     "                      decoded copies, included)\n"
     "  -h, --help          show this help\n"
+    "  --                  what follows is the scene file, even where it starts\n"
+    "                      with '-'\n"
     "\n"
     "exit status: 0 success, 1 bad scene or unwritable output (the frame, or standard\n"
     "output), 2 bad command line\n";
+
+// Whether the command's arguments ask for its help (-h or --help before any "--").
+bool asks_for_help(const std::vector<std::string>& argv) {
+    for (const auto& a : argv) {
+        if (a == "--") return false;
+        if (a == "-h" || a == "--help") return true;
+    }
+    return false;
+}
+
+// The message for an option the command does not know: a single dash may have been meant
+// as a file name.
+std::string unknown_option(const std::string& a, const char* command) {
+    return "unknown option " + texr::shown_token(a) + " for '" + command + "'" +
+           (a.rfind("--", 0) == 0 ? "" : " (a file of that name: put -- before it, or write it as " + texr::shown_name("./" + a) + ")");
+}
 
 struct UsageError {
     std::string message;
@@ -179,9 +199,19 @@ std::string default_output(const std::string& scene) {
 RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
     RenderArguments args;
     bool output_given = false, tolerance_given = false;
+    bool names_only = false;  // after "--": a file name, whatever it starts with
     std::vector<std::string> given;  // the options seen so far (-o as --output)
     for (std::size_t i = 0; i < argv.size(); ++i) {
         const std::string& a = argv[i];
+        if (!names_only && a == "--") {
+            names_only = true;
+            continue;
+        }
+        if (names_only) {
+            if (!args.scene.empty()) throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
+            args.scene = a;
+            continue;
+        }
         auto value = [&]() -> const std::string& {
             if (i + 1 >= argv.size()) throw UsageError{a + " needs a value"};
             return argv[++i];
@@ -208,7 +238,7 @@ RenderArguments parse_render_arguments(const std::vector<std::string>& argv) {
             if (text.empty() || *end != '\0' || !(args.span_tolerance > 0.0 && args.span_tolerance <= 1000.0))
                 throw UsageError{"--span-tolerance expects a number of texels above 0 and at most 1000, got " + texr::shown_token(text)};
         } else if (a == "--stats") args.stats = true;
-        else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + texr::shown_token(a) + " for 'texr render'"};
+        else if (!a.empty() && a[0] == '-') throw UsageError{unknown_option(a, "texr render")};
         else if (args.scene.empty()) args.scene = a;
         else throw UsageError{"texr render takes one scene file; '" + a + "' is one too many"};
     }
@@ -299,11 +329,10 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
 }
 
 int run_render(const std::vector<std::string>& argv) {
-    for (const auto& a : argv)
-        if (a == "-h" || a == "--help") {
-            std::fputs(render_help, stdout);
-            return 0;
-        }
+    if (asks_for_help(argv)) {
+        std::fputs(render_help, stdout);
+        return 0;
+    }
     const RenderArguments args = parse_render_arguments(argv);
     // The default output goes to out/ in the current folder, made if need be; a frame that
     // cannot be written is refused before the scene is read.
@@ -359,28 +388,33 @@ int run_render(const std::vector<std::string>& argv) {
 }
 
 int run_explain(const std::vector<std::string>& argv) {
-    for (const auto& a : argv)
-        if (a == "-h" || a == "--help") {
-            std::fputs(explain_help, stdout);
-            return 0;
-        }
+    if (asks_for_help(argv)) {
+        std::fputs(explain_help, stdout);
+        return 0;
+    }
     std::vector<std::string> positional, options;
+    bool names_only = false;  // after "--": SCENE, X and Y, whatever they start with
     for (std::size_t i = 0; i < argv.size(); ++i) {
-        if (argv[i] == "--size" || argv[i] == "--span" || argv[i] == "--span-tolerance") {
+        if (!names_only && argv[i] == "--") {
+            names_only = true;
+        } else if (names_only) {
+            positional.push_back(argv[i]);
+        } else if (argv[i] == "--size" || argv[i] == "--span" || argv[i] == "--span-tolerance") {
             if (i + 1 == argv.size()) throw UsageError{argv[i] + " needs a value (try texr explain --help)"};
             options.push_back(argv[i]);
             options.push_back(argv[++i]);
         } else if (!argv[i].empty() && argv[i][0] == '-' && !(argv[i].size() > 1 && std::isdigit(static_cast<unsigned char>(argv[i][1])))) {
-            throw UsageError{"unknown option " + texr::shown_token(argv[i]) + " for 'texr explain'"};
+            throw UsageError{unknown_option(argv[i], "texr explain")};
         } else {
             positional.push_back(argv[i]);
         }
     }
     if (positional.size() > 3) throw UsageError{"texr explain takes SCENE X Y; '" + positional[3] + "' is one too many"};
     if (positional.size() != 3) throw UsageError{"texr explain needs SCENE X Y (try texr explain --help)"};
-    options.insert(options.begin(), positional[0]);
     options.push_back("-o");
     options.push_back("unused.png");  // parse_render_arguments wants an output; nothing is written
+    options.push_back("--");
+    options.push_back(positional[0]);
     const RenderArguments args = parse_render_arguments(options);
     const texr::Scene scene = texr::load_scene(args.scene);
     texr::RenderOptions o;
@@ -407,16 +441,19 @@ int trouble_status = 1;
 // image cannot be read (usage errors: 2, by run's catch).
 int run_compare(const std::vector<std::string>& argv) {
     trouble_status = 2;
-    for (const auto& a : argv)
-        if (a == "-h" || a == "--help") {
-            std::fputs(compare_help, stdout);
-            return 0;
-        }
+    if (asks_for_help(argv)) {
+        std::fputs(compare_help, stdout);
+        return 0;
+    }
     std::vector<std::string> files;
     int max_diff = 0;
-    bool max_diff_given = false;
+    bool max_diff_given = false, names_only = false;  // (after "--": file names)
     for (std::size_t i = 0; i < argv.size(); ++i) {
-        if (argv[i] == "--max-diff") {
+        if (!names_only && argv[i] == "--") {
+            names_only = true;
+        } else if (names_only) {
+            files.push_back(argv[i]);
+        } else if (argv[i] == "--max-diff") {
             if (max_diff_given) throw UsageError{"--max-diff given twice"};
             if (i + 1 == argv.size()) throw UsageError{"--max-diff needs a value (try texr compare --help)"};
             const std::string& text = argv[++i];
@@ -426,7 +463,7 @@ int run_compare(const std::vector<std::string>& argv) {
                 throw UsageError{"--max-diff expects a whole number from 0 to 255, got " + texr::shown_token(text)};
             max_diff = std::stoi(text.substr(first_digit)), max_diff_given = true;
         } else if (argv[i].size() > 1 && argv[i][0] == '-') {
-            throw UsageError{"unknown option " + texr::shown_token(argv[i]) + " for 'texr compare'"};
+            throw UsageError{unknown_option(argv[i], "texr compare")};
         } else {
             files.push_back(argv[i]);
         }
@@ -489,7 +526,13 @@ std::vector<std::string> split_option_values(const std::vector<std::string>& arg
     static const char* const with_values[] = {"--output", "--size", "--repeat", "--threads", "--spp",
                                               "--span", "--span-tolerance", "--models", "--out", "--max-diff"};
     std::vector<std::string> out;
+    bool names_only = false;  // after "--": file names, kept as they are
     for (const std::string& a : args) {
+        if (names_only || a == "--") {
+            names_only = true;
+            out.push_back(a);
+            continue;
+        }
         const std::size_t equals = a.find('=');
         if (a.rfind("--", 0) != 0 || equals == std::string::npos || equals <= 2) {
             out.push_back(a);
@@ -530,11 +573,10 @@ int run(const std::vector<std::string>& raw_args) {
         if (command == "compare") return run_compare({args.begin() + 1, args.end()});
         if (command == "bench") {
             const std::vector<std::string> rest(args.begin() + 1, args.end());
-            for (const auto& a : rest)
-                if (a == "-h" || a == "--help") {
-                    std::fputs(texr::bench_help, stdout);
-                    return 0;
-                }
+            if (asks_for_help(rest)) {
+                std::fputs(texr::bench_help, stdout);
+                return 0;
+            }
             try {
                 return texr::run_bench(rest);
             } catch (const std::invalid_argument& e) {
