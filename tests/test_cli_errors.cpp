@@ -1578,6 +1578,7 @@ TEST_CASE("texr bench: the index lists an earlier run's benchmarks too, filters.
                              "\nmaterial m texture t\ntriangle v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0 1 material m\n";
     write_text(models + "/bench/plane.scene", away);
     write_text(models + "/bench/grazing.scene", away);
+    write_text(models + "/bench/wall.scene", away);
     for (const char* name : {"filters", "spans"}) {
         const RunResult r = run_texr(std::string("bench ") + name + " --quick --models " + models + " --out " + models + "/out3");
         CAPTURE(r.output);

@@ -26,7 +26,8 @@ const char* bench_help =
     "              median frame time, covered Mpixel/s, PSNR and SSIM against a\n"
     "              supersampled ground truth\n"
     "  spans       every span mode (exact, incremental, affine8/16/32, affine, adaptive)\n"
-    "              on the same scenes: median frame time, max and mean texel error\n"
+    "              on the same scenes and a wall turned about the vertical axis: median\n"
+    "              frame time, max and mean texel error\n"
     "  threads     the receding plane with nearest, bilinear, trilinear and EWA on 1\n"
     "              and 2 threads (and every core, if more): covered Mpixel/s and the\n"
     "              speed-up\n"
@@ -39,8 +40,9 @@ const char* bench_help =
     "  --spp N         ground truth: N x N samples per pixel, 2..64 (default 16)\n"
     "  --threads N     worker threads for the timed frames, 1..256 (default 1; scale:\n"
     "                  all cores; threads always measures 1, 2 and every core)\n"
-    "  --models DIR    folder holding bench/plane.scene and bench/grazing.scene\n"
-    "                  (default: this build's source models/)\n"
+    "  --models DIR    folder holding bench/plane.scene, bench/grazing.scene and\n"
+    "                  (for spans) bench/wall.scene (default: this build's source\n"
+    "                  models/)\n"
     "  --out DIR       output folder (default out/bench), made if missing and checked\n"
     "                  before any benchmark runs\n"
     "  --quick         a smoke test: 1 timed frame, 4x4 ground truth, 256x192, and\n"
@@ -118,6 +120,7 @@ int run_bench(const std::vector<std::string>& args) {
             load_bench_scene(o, "grazing");
             break;
         }
+    if (std::find(names.begin(), names.end(), "spans") != names.end()) load_bench_scene(o, "wall");
     make_folders(o.out);
     std::vector<Target> targets;
     const auto checked = [&](std::vector<Target> more) { targets.insert(targets.end(), more.begin(), more.end()); };

@@ -121,7 +121,7 @@ void write_filters_report(const BenchOptions& o, const std::vector<FilterRow>& r
     write_text_file(o.out + "/filters.csv", csv);
     write_text_file(o.out + "/filters.md", md);
     PlotAxes axes;
-    axes.title = "texr bench filters: run time against error", axes.x_label = "median frame time, ms", axes.y_label = "PSNR, dB";
+    axes.title = "texr bench filters: run time against error (PSNR: higher is closer to the ground truth)", axes.x_label = "median frame time, ms", axes.y_label = "PSNR, dB";
     axes.marks = {{29.5, "trilinear's target on the plane, 29.5 dB"}, {35.0, "EWA's target on the plane, 35 dB"}};
     write_text_file(o.out + "/filters.svg", scatter_svg(axes, points));
 }

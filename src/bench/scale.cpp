@@ -217,8 +217,8 @@ std::vector<ScaleRow> bench_scale(const BenchOptions& o) {
 }
 
 void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows) {
-    std::string csv = "dimension,scene,size,width,height,threads,filter,mode,frame_ms_median,rate,rate_unit,mip_build_ms,decoded_mb,peak_mb,data_mb,peak_over_data\n";
-    std::string md = "| grows | scene | size | frame | threads | filter | span mode | frame ms (median) | rate | mip build ms | decoded MB | peak MB | data MB | peak / data |\n"
+    std::string csv = "dimension,scene,count,width,height,threads,filter,mode,frame_ms_median,rate,rate_unit,mip_build_ms,decoded_mb,peak_mb,data_mb,peak_over_data\n";
+    std::string md = "| grows | scene | count | frame | threads | filter | span mode | frame ms (median) | rate | mip build ms | decoded MB | peak MB | data MB | peak / data |\n"
                      "|---|---|---:|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotPoint> points;
     for (const ScaleRow& r : rows) {
@@ -232,7 +232,7 @@ void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows
               fixed(r.decoded_mb, 1) + " | " + fixed(r.peak_mb, 1) + " | " + fixed(r.expected_mb, 1) + " | " + fixed(r.peak_mb / r.expected_mb, 2) + " |\n";
         points.push_back({r.dimension, point_label(r), r.size, r.frame_ms});
     }
-    md += "\nData MB: texture texels, mip levels, frame buffers (12-byte colour + 4-byte depth per pixel) and mesh "
+    md += "\nCount: what grows, in its unit (triangles, frame pixels, or texture texels). Data MB: texture texels, mip levels, frame buffers (12-byte colour + 4-byte depth per pixel) and mesh "
           "arrays; decoded MB: the decoded texel copies the frames made for the blending filters (in the peak, not in "
           "the data); peak MB: the measuring process's peak resident size (each row in its own process, program and "
           "libraries included).\n";
@@ -240,7 +240,7 @@ void write_scale_report(const BenchOptions& o, const std::vector<ScaleRow>& rows
     write_text_file(o.out + "/scale.md", md);
     PlotAxes axes;
     axes.title = "texr bench scale: frame time as triangles, pixels and texture size grow";
-    axes.x_label = "size (triangles, pixels or texels)", axes.y_label = "median frame time, ms";
+    axes.x_label = "count (triangles, pixels or texels)", axes.y_label = "median frame time, ms";
     axes.log_y = true, axes.connect = true;
     write_text_file(o.out + "/scale.svg", scatter_svg(axes, points));
 }

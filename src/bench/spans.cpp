@@ -20,9 +20,14 @@ struct SpanRow {
     double frame_ms, max_error, mean_error, covered_pixels;
 };
 
+// The scenes: the targets' plane and grazing square, and a wall turned about the vertical
+// axis. The plane's rows are lines of constant depth, along which u'/q is affine: no mode's
+// error there says much about perspective. The grazing square's bound allows sub-spans of
+// about 2 pixels, so the adaptive mode steps every pixel, as incremental does. The wall, with
+// perspective along its rows, is where the adaptive mode has choices to make; it has no target.
 std::vector<SpanRow> bench_spans(const BenchOptions& o) {
     std::vector<SpanRow> rows;
-    for (const std::string name : {"plane", "grazing"}) {
+    for (const std::string name : {"plane", "grazing", "wall"}) {
         Scene scene = load_bench_scene(o, name);
         for (Texture& t : scene.textures) t.sampler.filter = Filter::bilinear;  // the span cost, not a filter's, dominates
         const double texture_w = scene.textures.at(0).mipmap->base().width();
@@ -94,7 +99,11 @@ void write_spans_report(const BenchOptions& o, const std::vector<SpanRow>& rows)
         points.push_back({r.scene, r.max_error > 0.0 ? r.mode : r.mode + " (error 0)", r.frame_ms, std::max(r.max_error, 1e-12)});
     }
     md += "\nErrors are against the exact mode (u'/q from the plane equations at every pixel, in double "
-          "precision); the adaptive mode's tolerance is 1/64 texel.\n";
+          "precision), in texels: max(|du| W, |dv| H) for a W x H texture, the largest and the mean over "
+          "the covered pixels; the adaptive mode's tolerance is 1/64 texel. The plane's rows are lines of "
+          "constant depth (u'/q is affine along them), and on the grazing square the adaptive mode steps "
+          "every pixel (its bound allows sub-spans of about 2 pixels): the wall, turned about the vertical "
+          "axis, has perspective along its rows. It has no target.\n";
     write_text_file(o.out + "/spans.csv", csv);
     write_text_file(o.out + "/spans.md", md);
     PlotAxes axes;

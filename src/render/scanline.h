@@ -127,8 +127,9 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     return {c.x == c.x ? c.x : 0.0f, c.y == c.y ? c.y : 0.0f, c.z == c.z ? c.z : 0.0f};
 }
 
-// The ground truth for texture filtering: spp x spp stratified sub-pixel positions, each
-// with its exact (u, v) from the homography, read bilinearly from the base level.
+// The ground truth for texture filtering: the centres of spp x spp equal sub-pixel cells (a
+// regular grid, no jitter), each with its exact (u, v) from the homography, read bilinearly
+// from the base level.
 Color4 supersampled_texel(const DrawContext& d, const TextureHomography& h, int x, int y, std::uint64_t& texels) {
     const int n = d.spp;
     const auto sample = [&](int i, int j) {

@@ -12,8 +12,9 @@ namespace texr {
 
 struct RenderOptions {
     int width = 0, height = 0;  // 0: the scene's size
-    // Texture ground truth: spp x spp stratified samples per pixel, each a bilinear lookup
-    // in the base level at its own exact (u, v), box-filtered. 1 = the textures' own filters.
+    // Texture ground truth: spp x spp samples per pixel at the centres of equal sub-pixel
+    // cells (a regular grid, no jitter), each a bilinear lookup in the base level at its own
+    // exact (u, v), box-filtered. 1 = the textures' own filters.
     int spp = 1;
     // Worker threads; 0 = one per core the calling thread may use (usable_cores). The frame is the same bytes for every count.
     int threads = 0;
