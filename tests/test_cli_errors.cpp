@@ -3058,3 +3058,73 @@ TEST_CASE("a file whose name starts with '-' is given after --, and a single-das
     CHECK(r.exit_code == 2);
     CHECK(r.output == "texr: texr compare takes two images A B; '--max-diff' is one too many\n");
 }
+
+TEST_CASE("of two surfaces at the same depth the one written first shows, on any number of threads") {
+    // Two copies of one triangle, unlit, in red and in blue: the first written keeps every
+    // pixel (the depth test is strict), whichever colour that is.
+    const std::string dir = scratch_folder("depth-ties");
+    const std::string triangle = " v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
+    const std::string head = "size 32 24\ncamera eye 0 0 3 target 0 0 0\nmaterial red color 1 0 0 lighting none\n"
+                             "material blue color 0 0 1 lighting none\n";
+    for (const bool red_first : {true, false}) {
+        const std::string first = red_first ? "red" : "blue", second = red_first ? "blue" : "red";
+        write_text(dir + "/s.scene", head + "triangle material " + first + triangle + "triangle material " + second + triangle);
+        for (const std::string threads : {"1", "2"}) {
+            CAPTURE(first);
+            CAPTURE(threads);
+            REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/o.ppm --threads " + threads).exit_code == 0);
+            const std::string ppm = read_file(dir + "/o.ppm");
+            const std::string header = "P6\n32 24\n255\n";
+            REQUIRE(ppm.size() == header.size() + 32 * 24 * 3);
+            int reds = 0, blues = 0;
+            for (std::size_t i = header.size(); i < ppm.size(); i += 3) {
+                const auto r = std::uint8_t(ppm[i]), g = std::uint8_t(ppm[i + 1]), b = std::uint8_t(ppm[i + 2]);
+                reds += r == 255 && g == 0 && b == 0;
+                blues += r == 0 && g == 0 && b == 255;
+            }
+            // The triangle's area, 2, times (12 / (3 tan 30 degrees))^2 = 48 pixels per unit
+            // area at distance 3 in 24 rows of a 60-degree view: 96 pixels, give or take its edges.
+            CHECK((red_first ? reds : blues) >= 86);
+            CHECK((red_first ? reds : blues) <= 106);
+            CHECK((red_first ? blues : reds) == 0);
+        }
+    }
+}
+
+TEST_CASE("a lecture word texr does not have yet is named as such, and a line cut short says so") {
+    const std::string note = ", which texr does not have yet (docs/lecture-guide.md, \"Not in texr yet\")\n";
+    for (const auto& [line, message] : std::vector<std::pair<std::string, std::string>>{
+             {"sphere 0 0 0 1", "unknown command 'sphere' (expected size, camera, background, ambient, texture, material, light, "
+                                "mesh, triangle or quad); 'sphere' belongs to the lecture's parametric surfaces" + note},
+             {"material m color 1 1 1 Opacity 0.5",
+              "unknown material option 'Opacity' (expected color, texture, lighting or vertex_colors); 'Opacity' belongs to the "
+              "lecture's opacity and billboards" + note},
+             {"texture t file x.png filter marble",
+              "unknown filter 'marble' (expected one of: anisotropic, bicubic, bilinear, bilinear_mip_nearest, ewa, nearest, "
+              "nearest_mip_nearest, trilinear); 'marble' belongs to the lecture's procedural textures" + note},
+             {"texture t environment x.hdr",
+              "unknown texture option 'environment' (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, "
+              "cubic, clamp_overshoot or max_anisotropy); 'environment' belongs to the lecture's environment and reflection maps" + note},
+             {"quad bump 1", "unknown quad option 'bump' (expected v, n, c, material, cull, translate, rotate or scale); 'bump' belongs "
+                             "to the lecture's bump mapping" + note},
+             // Other words: no such note.
+             {"material m shiny 1", "unknown material option 'shiny' (expected color, texture, lighting or vertex_colors)\n"},
+             {"cone2 1", "unknown command 'cone2' (expected size, camera, background, ambient, texture, material, light, mesh, "
+                         "triangle or quad)\n"},
+             // A line cut short: what was expected, and that the line ended.
+             {"triangle v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0.5 1 translate 1 2",
+              "expected 3 numbers for translate after '2', found the end of the line\n"},
+             {"triangle v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0.5 1 scale 1 2",
+              "expected 1 or 3 scale factors (scale s, or scale sx sy sz) after '2', found the end of the line\n"},
+             {"triangle v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0.5 1 scale 1 2 material red",
+              "expected 1 or 3 scale factors (scale s, or scale sx sy sz), found 'material'\n"},
+         }) {
+        CAPTURE(line);
+        const std::string dir = scratch_folder("lecture-words");
+        write_text(dir + "/scene.txt", good_scene + line + "\n");
+        const RunResult r = run_texr("render " + dir + "/scene.txt -o " + dir + "/out.png");
+        CHECK(r.exit_code == 1);
+        CHECK(r.output == "texr: " + dir + "/scene.txt:5: " + message);
+        CHECK_FALSE(file_exists(dir + "/out.png"));
+    }
+}

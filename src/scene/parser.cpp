@@ -28,6 +28,35 @@ namespace texr {
 
 namespace {
 
+// A word a scene author may take from the lecture's parts that texr does not have yet
+// (docs/lecture-guide.md, "Not in texr yet"): the end of the message that refuses it, so
+// that it does not read as a typo. Empty for any other word.
+std::string not_in_texr_yet(const std::string& word) {
+    static const std::map<std::string, const char*> parts = {
+        {"sphere", "parametric surfaces"}, {"cylinder", "parametric surfaces"}, {"disc", "parametric surfaces"},
+        {"disk", "parametric surfaces"}, {"torus", "parametric surfaces"}, {"cone", "parametric surfaces"},
+        {"procedural", "procedural textures"}, {"checker", "procedural textures"}, {"checkerboard", "procedural textures"},
+        {"brick", "procedural textures"}, {"tile", "procedural textures"}, {"noise", "procedural textures"},
+        {"perlin", "procedural textures"}, {"turbulence", "procedural textures"}, {"marble", "procedural textures"},
+        {"wood", "procedural textures"}, {"solid", "solid texture mapping"}, {"projective", "projective texture mapping"},
+        {"projector", "projective texture mapping"}, {"spherical", "two-stage texture mapping"},
+        {"cylindrical", "two-stage texture mapping"}, {"slope", "slope-based texture mapping"},
+        {"environment", "environment and reflection maps"}, {"envmap", "environment and reflection maps"},
+        {"reflection", "environment and reflection maps"}, {"reflect", "environment and reflection maps"},
+        {"cubemap", "environment and reflection maps"}, {"skybox", "environment and reflection maps"},
+        {"lightmap", "light maps"}, {"light_map", "light maps"}, {"bump", "bump mapping"}, {"bump_map", "bump mapping"},
+        {"normal_map", "normal mapping"}, {"normalmap", "normal mapping"}, {"displacement", "displacement mapping"},
+        {"displace", "displacement mapping"}, {"opacity", "opacity and billboards"}, {"alpha", "opacity and billboards"},
+        {"transparency", "opacity and billboards"}, {"alpha_test", "opacity and billboards"}, {"blend", "opacity and billboards"},
+        {"billboard", "opacity and billboards"}};
+    std::string lower;
+    for (const char ch : word) lower += (ch >= 'A' && ch <= 'Z') ? char(ch - 'A' + 'a') : ch;
+    const auto it = parts.find(lower);
+    if (it == parts.end()) return "";
+    return "; " + shown_token(word) + " belongs to the lecture's " + it->second +
+           ", which texr does not have yet (docs/lecture-guide.md, \"Not in texr yet\")";
+}
+
 // v times the power of two that brings its largest component into [1, 2): the same direction,
 // and glm::normalize gives the same bits for it (every step scales exactly), but its squared
 // length neither overflows nor underflows (a light direction of 1e300, an up of 1e-300).
@@ -126,7 +155,7 @@ public:
     const std::string& peek() const { return line_.tokens[next_]; }
 
     std::string word(const std::string& what) {
-        if (done()) fail("expected " + what + " after " + shown_token(line_.tokens[next_ - 1]));
+        if (done()) fail("expected " + what + " after " + shown_token(line_.tokens[next_ - 1]) + ", found the end of the line");
         return line_.tokens[next_++];
     }
 
@@ -134,7 +163,7 @@ public:
     // A number there most often belongs to the option before it, which was given too many
     // (a vertex of six numbers, an eye of four): the message says so, naming that option.
     [[noreturn]] void unknown_option(const std::string& command, const std::string& key, const std::string& expected) const {
-        std::string message = "unknown " + command + " option " + shown_token(key) + " (expected " + expected + ")";
+        std::string message = "unknown " + command + " option " + shown_token(key) + " (expected " + expected + ")" + not_in_texr_yet(key);
         double ignored = 0.0;
         if (parse_number(key, ignored)) {
             std::size_t option = mark();
@@ -230,7 +259,7 @@ Enum choose(Cursor& c, const std::string& what, const std::map<std::string, Enum
     if (it != choices.end()) return it->second;
     std::string names;
     for (const auto& [name, value] : choices) names += (names.empty() ? "" : ", ") + name;
-    c.fail("unknown " + what + " " + shown_token(w) + " (expected one of: " + names + ")");
+    c.fail("unknown " + what + " " + shown_token(w) + " (expected one of: " + names + ")" + not_in_texr_yet(w));
 }
 
 const std::map<std::string, Wrap> wrap_names = {
@@ -266,7 +295,8 @@ public:
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
         else c.fail("unknown command " + shown_token(name) +
-                    " (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)");
+                    " (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)" +
+                    not_in_texr_yet(name));
         if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
 
@@ -497,7 +527,10 @@ private:
             object.transform = glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(direction_scaled(axis))) * object.transform;
         } else if (key == "scale") {
             glm::dvec3 s(c.number("a scale factor"));
-            if (c.next_is_number()) { s.y = c.number("3 scale factors"); s.z = c.number("3 scale factors"); }
+            if (c.next_is_number()) {
+                const std::string what = "1 or 3 scale factors (scale s, or scale sx sy sz)";
+                s.y = c.number(what), s.z = c.number(what);
+            }
             if (s.x == 0.0 || s.y == 0.0 || s.z == 0.0) c.fail("scale factors must not be zero");
             object.transform = glm::scale(glm::dmat4(1.0), s) * object.transform;
         } else return false;
