@@ -3099,12 +3099,13 @@ TEST_CASE("a lecture word texr does not have yet is named as such, and a line cu
              {"material m color 1 1 1 Opacity 0.5",
               "unknown material option 'Opacity' (expected color, texture, lighting or vertex_colors); 'Opacity' belongs to the "
               "lecture's opacity and billboards" + note},
-             {"texture t file x.png filter marble",
-              "unknown filter 'marble' (expected one of: anisotropic, bicubic, bilinear, bilinear_mip_nearest, ewa, nearest, "
-              "nearest_mip_nearest, trilinear); 'marble' belongs to the lecture's procedural textures" + note},
+             {"texture t procedural wood",
+              "unknown procedural pattern 'wood' (expected one of: brick, checker, marble, noise, tile, turbulence); 'wood' belongs to "
+              "the lecture's wood pattern (solid noise)" + note},
              {"texture t environment x.hdr",
               "unknown texture option 'environment' (expected file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, "
-              "cubic, clamp_overshoot or max_anisotropy); 'environment' belongs to the lecture's environment and reflection maps" + note},
+              "cubic, clamp_overshoot, max_anisotropy; or procedural, scale, color0, color1, mortar, octaves, amplitude, solid); "
+              "'environment' belongs to the lecture's environment and reflection maps" + note},
              {"quad bump 1", "unknown quad option 'bump' (expected v, n, c, material, cull, translate, rotate or scale); 'bump' belongs "
                              "to the lecture's bump mapping" + note},
              // Other words: no such note.

@@ -28,6 +28,10 @@ std::vector<bool> covered(const Framebuffer& fb) {
 Scene load_bench_scene(const BenchOptions& o, const std::string& name) {
     const std::string path = o.models + "/bench/" + name + ".scene";
     Scene scene = load_scene(path);
+    for (const Texture& t : scene.textures)
+        if (t.procedural)
+            throw InputError(path, 0, "texture " + shown_name(t.name) +
+                                          " is procedural: texr bench times and scores image textures (their filters and span modes)");
     for (const Object& object : scene.objects)
         for (const int m : scene.meshes[std::size_t(object.mesh)].triangle_material)
             if (scene.materials[std::size_t(m)].texture >= 0) return scene;

@@ -282,6 +282,11 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     std::map<const texr::Image*, std::string> image_of;   // image -> the first texture naming it
     std::map<const texr::MipMap*, std::string> levels_of;  // likewise for mip levels
     for (const texr::Texture& t : scene.textures) {
+        if (t.procedural) {
+            std::printf("texture %-12s procedural %s%s: no texels\n", texr::shown_text(t.name, texr::shown_token_bytes).c_str(),
+                        texr::pattern_name(t.procedural->pattern), t.procedural->solid ? ", solid" : "");
+            continue;
+        }
         const texr::Image& image = *t.image;
         const auto [at_image, first_image] = image_of.emplace(&image, t.name);
         const auto [at_levels, first_levels] = levels_of.emplace(t.mipmap.get(), t.name);

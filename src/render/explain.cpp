@@ -319,7 +319,41 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                   exact_d.dvdy);
 
     Color4 texel(1.0f);
-    if (m.texture >= 0) {
+    if (m.texture >= 0 && scene.textures[std::size_t(m.texture)].procedural) {
+        const Texture& t = scene.textures[std::size_t(m.texture)];
+        const Procedural& p = *t.procedural;
+        // The (u, v) the span mode gave the pixel, as for an image (below).
+        double u = exact_u, v = exact_v;
+        UVDerivatives d = exact_d;
+        if (e.uv_read_known && (e.uv_read.x != exact_u || e.uv_read.y != exact_v)) {
+            u = e.uv_read.x, v = e.uv_read.y;
+            d = uv_derivatives(e.h, u, v, q);
+            out += std::string("\n   --span ") + span_mode_name(e.span_mode) +
+                   format(" gives this pixel u = %.10g, v = %.10g instead; the pattern below reads them\n", u, v);
+        }
+        glm::dvec3 world(0.0);
+        double footprint = 0.0;
+        const bool band_limited = (needs_of(m, scene) & need_uv_derivatives) != 0;
+        if (p.solid) {
+            glm::dvec3 dx, dy;
+            for (int i = 0; i < 3; ++i) {
+                world[i] = e.world[std::size_t(i)].at(x, y) / q;
+                dx[i] = (e.world[std::size_t(i)].dx - world[i] * e.h.q.dx) / q;
+                dy[i] = (e.world[std::size_t(i)].dy - world[i] * e.h.q.dy) / q;
+            }
+            out += format("\n   the world position at the pixel centre, P = P'/q: (%.6g, %.6g, %.6g)\n", world.x, world.y, world.z);
+            if (band_limited) footprint = std::max(glm::length(dx), glm::length(dy));
+        } else if (band_limited) {
+            footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+        }
+        out += "\n5. Texture " + shown_name(t.name) + " (procedural " + pattern_name(p.pattern) + (p.solid ? ", solid" : "") +
+               "; no texels, filter or wrap):\n";
+        if (band_limited)
+            out += (p.solid ? format("    footprint: the longer of |dP/dx| and |dP/dy| = %.4g world units\n", footprint)
+                            : format("    footprint: the longer of |d(u,v)/dx| and |d(u,v)/dy| = %.4g\n", footprint));
+        out += procedural_steps(p, p.solid ? world : glm::dvec3(u, v, 0.0), footprint);
+        texel = procedural_value(p, p.solid ? world : glm::dvec3(u, v, 0.0), footprint);
+    } else if (m.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
         const int w = t.mipmap->base().width(), h = t.mipmap->base().height();
         // The lookup reads the (u, v) the span mode gave this pixel, with the derivatives taken

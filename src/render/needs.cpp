@@ -6,8 +6,17 @@ namespace texr {
 Needs needs_of(const Material& material, const Scene& scene) {
     Needs needs = 0;
     if (material.texture >= 0) {
+        const Texture& t = scene.textures[std::size_t(material.texture)];
         needs |= need_uv;
-        if (uses_footprint(scene.textures[std::size_t(material.texture)].sampler.filter)) needs |= need_uv_derivatives;
+        if (t.procedural) {
+            // Turbulence (and marble's) is band-limited by the footprint; a solid texture reads
+            // the world position (and its derivatives, from the same planes).
+            const Pattern p = t.procedural->pattern;
+            if (p == Pattern::turbulence || p == Pattern::marble) needs |= need_uv_derivatives;
+            if (t.procedural->solid) needs |= need_world_position;
+        } else if (uses_footprint(t.sampler.filter)) {
+            needs |= need_uv_derivatives;
+        }
     }
     if (material.vertex_colors) needs |= need_color;
     if (material.lighting == Lighting::lambert && !scene.lights.empty()) {

@@ -127,13 +127,47 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     return {c.x == c.x ? c.x : 0.0f, c.y == c.y ? c.y : 0.0f, c.z == c.z ? c.z : 0.0f};
 }
 
+// A procedural texture's value at a pixel (or sub-pixel position) whose (u, v) and, for a
+// solid texture, world position are given, with the footprint: the longer of the pixel's
+// two sides in texture or world units (procedural.h: turbulence is band-limited by it).
+inline Color4 procedural_texel(const Procedural& p, double u, double v, const glm::dvec3& world, double footprint) {
+    return procedural_value(p, p.solid ? world : glm::dvec3(u, v, 0.0), footprint);
+}
+
+// The footprint of a pixel in (u, v): the longer of |d(u,v)/dx| and |d(u,v)/dy|.
+inline double uv_footprint(const UVDerivatives& d) {
+    return std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+}
+
+// The footprint of a pixel in world units: the longer of |dP/dx| and |dP/dy| for the world
+// position P = P'/q, by the quotient rule as the (u, v) derivatives are, from its planes.
+inline double world_footprint(const TriangleSetup& s, const glm::dvec3& world, double inv_q) {
+    glm::dvec3 dx, dy;
+    for (int i = 0; i < 3; ++i) {
+        dx[i] = (s.world[std::size_t(i)].dx - world[i] * s.h.q.dx) * inv_q;
+        dy[i] = (s.world[std::size_t(i)].dy - world[i] * s.h.q.dy) * inv_q;
+    }
+    return std::max(glm::length(dx), glm::length(dy));
+}
+
 // The ground truth for texture filtering: the centres of spp x spp equal sub-pixel cells (a
 // regular grid, no jitter), each with its exact (u, v) from the homography, read bilinearly
-// from the base level.
-Color4 supersampled_texel(const DrawContext& d, const TextureHomography& h, int x, int y, std::uint64_t& texels) {
+// from the base level; a procedural texture's pattern is evaluated there in full (every
+// octave its `octaves` allows).
+Color4 supersampled_texel(const DrawContext& d, const TriangleSetup& s, int x, int y, std::uint64_t& texels) {
+    const TextureHomography& h = s.h;
     const int n = d.spp;
     const auto sample = [&](int i, int j) {
-        const glm::dvec2 uv = h.uv_at(x + (i + 0.5) / n, y + (j + 0.5) / n);
+        const double sx = x + (i + 0.5) / n, sy = y + (j + 0.5) / n;
+        const glm::dvec2 uv = h.uv_at(sx, sy);
+        if (const Procedural* p = d.texture->procedural.get()) {
+            glm::dvec3 world(0.0);
+            if (p->solid) {
+                const double q = h.q.at(sx, sy);
+                for (int a = 0; a < 3; ++a) world[a] = s.world[std::size_t(a)].at(sx, sy) / q;
+            }
+            return procedural_texel(*p, uv.x, uv.y, world, 0.0);
+        }
         return sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, uv.x, uv.y);
     };
     Color4 sum(0.0f);
@@ -180,7 +214,7 @@ TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if constexpr (!has_short_paths<N>) return TexturePath::general;
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
     const Texture& t = *d.texture;
-    if (!takes_short_path(*t.image, t.sampler)) return TexturePath::general;
+    if (t.procedural || !takes_short_path(*t.image, t.sampler)) return TexturePath::general;
     constexpr bool footprint = (N & need_uv_derivatives) != 0;
     switch (t.sampler.filter) {
         case Filter::nearest: return TexturePath::nearest;
@@ -515,7 +549,11 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         if (!stepped_uv) {
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
-            t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
+            // (texels: a procedural texture's tolerance is in units of its pattern's cells)
+            if (const Procedural* p = d.texture->procedural.get())
+                t.width = t.height = p->scale;
+            else
+                t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
             if (d.span_mode == SpanMode::adaptive && adaptive_steps_whole_span(t, y, x0, span.x1 - x0))
                 stepped_uv = true;  // it would step every pixel: step them here
             else
@@ -559,7 +597,17 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                     if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
                         derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
                     if constexpr (general) {
-                        texel = d.spp > 1 ? supersampled_texel(d, s.h, x, y, texels) : lookup(*d.texture, u, v, derivatives, texels);
+                        if (d.spp > 1) {
+                            texel = supersampled_texel(d, s, x, y, texels);
+                        } else if (const Procedural* p = d.texture->procedural.get()) {
+                            const glm::dvec3 at = world.value() * inv_q;  // (0 unless solid: then it is needed)
+                            const double footprint = (N & need_uv_derivatives) == 0 ? 0.0
+                                                     : p->solid                      ? world_footprint(s, at, inv_q)
+                                                                                     : uv_footprint(derivatives);
+                            texel = procedural_texel(*p, u, v, at, footprint);
+                        } else {
+                            texel = lookup(*d.texture, u, v, derivatives, texels);
+                        }
                         if (uv_row) uv_row[x] = {u, v};
                     } else {
                         constexpr bool footprint = (N & need_uv_derivatives) != 0;

@@ -205,7 +205,10 @@ private:
         if ((needs & need_uv) || explaining_) {  // texr explain shows u and v even when unused
             std::array<double, 3> u = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.x; });
             std::array<double, 3> vv = vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return mesh.vertices[i].uv.y; });
-            s.uv_shift = texture ? glm::dvec2(rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v)) : glm::dvec2(0.0);
+            // (a procedural texture has no period to shift by: its pattern is not an image's)
+            s.uv_shift = texture && !texture->procedural
+                             ? glm::dvec2(rebase(u, texture->sampler.wrap_u), rebase(vv, texture->sampler.wrap_v))
+                             : glm::dvec2(0.0);
             s.h.u_prime = over_w_plane(lambda, u, inv_w);
             s.h.v_prime = over_w_plane(lambda, vv, inv_w);
             if (options_.span_mode == SpanMode::affine) {  // the wrong answer, for contrast: no 1/w

@@ -35,10 +35,8 @@ std::string not_in_texr_yet(const std::string& word) {
     static const std::map<std::string, const char*> parts = {
         {"sphere", "parametric surfaces"}, {"cylinder", "parametric surfaces"}, {"disc", "parametric surfaces"},
         {"disk", "parametric surfaces"}, {"torus", "parametric surfaces"}, {"cone", "parametric surfaces"},
-        {"procedural", "procedural textures"}, {"checker", "procedural textures"}, {"checkerboard", "procedural textures"},
-        {"brick", "procedural textures"}, {"tile", "procedural textures"}, {"noise", "procedural textures"},
-        {"perlin", "procedural textures"}, {"turbulence", "procedural textures"}, {"marble", "procedural textures"},
-        {"wood", "procedural textures"}, {"solid", "solid texture mapping"}, {"projective", "projective texture mapping"},
+        {"wood", "wood pattern (solid noise)"}, {"granite", "granite pattern (solid noise)"},
+        {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"projective", "projective texture mapping"},
         {"projector", "projective texture mapping"}, {"spherical", "two-stage texture mapping"},
         {"cylindrical", "two-stage texture mapping"}, {"slope", "slope-based texture mapping"},
         {"environment", "environment and reflection maps"}, {"envmap", "environment and reflection maps"},
@@ -194,10 +192,12 @@ public:
                      std::to_string(line_of(at)) + "): give it once");
         options_.emplace_back(key, mark());
     }
-    bool seen(const std::string& key) const {
+    bool seen(const std::string& key) const { return where(key) != 0; }
+    // The token of option `key` (0: not given).
+    std::size_t where(const std::string& key) const {
         for (const auto& option : options_)
-            if (option.first == key) return true;
-        return false;
+            if (option.first == key) return option.second;
+        return 0;
     }
 
     bool next_is_number() const {
@@ -364,12 +364,44 @@ private:
         ColorSpace space = ColorSpace::srgb;
         glm::dvec3 border(0.0);  // as written: its colour space is the image's (below)
         std::size_t file_at = 0, srgb_at = 0;  // srgb_at: where 'colorspace srgb' was written (0: not)
+        Procedural procedural;  // (its default colours: sRGB 0.1 and 0.9 greys)
+        procedural.color0 = Color(srgb_to_linear(0.1f)), procedural.color1 = Color(srgb_to_linear(0.9f));
+        std::size_t procedural_at = 0, image_option_at = 0, procedural_option_at = 0;  // (0: not written)
+        std::string image_option, procedural_option;  // the first of each kind, for the message
+        static const char* const image_options[] = {"file", "filter", "cubic", "clamp_overshoot", "max_anisotropy", "wrap",
+                                                    "wrap_u", "wrap_v", "border", "registration", "colorspace"};
+        static const char* const procedural_options[] = {"scale", "color0", "color1", "mortar", "octaves", "amplitude", "solid"};
         while (!c.done()) {
             const std::string key = c.word("a texture option");
             c.once(key);
+            const auto named = [&](const char* const* list, std::size_t n) { return std::find(list, list + n, key) != list + n; };
+            if (image_option_at == 0 && named(image_options, std::size(image_options))) image_option = key, image_option_at = c.mark();
+            if (procedural_option_at == 0 && named(procedural_options, std::size(procedural_options)))
+                procedural_option = key, procedural_option_at = c.mark();
             if ((key == "wrap" && (c.seen("wrap_u") || c.seen("wrap_v"))) || ((key == "wrap_u" || key == "wrap_v") && c.seen("wrap")))
                 c.fail("'wrap' sets both wrap_u and wrap_v: give either wrap, or wrap_u and wrap_v");
             if (key == "file") t.path = relative_to(folder_, c.word("an image file name")), file_at = c.mark();
+            else if (key == "procedural") {
+                procedural_at = c.mark();
+                std::map<std::string, Pattern> patterns;
+                for (int p = 0; p < pattern_count; ++p) patterns[pattern_name(Pattern(p))] = Pattern(p);
+                procedural.pattern = choose(c, "procedural pattern", patterns);
+            } else if (key == "scale") {
+                procedural.scale = c.number("the pattern's scale");
+                if (!(procedural.scale > 0.0 && procedural.scale <= 1e9)) c.fail("the pattern's scale must be above 0 and at most 1e9");
+            } else if (key == "color0") procedural.color0 = c.color("color0");
+            else if (key == "color1") procedural.color1 = c.color("color1");
+            else if (key == "mortar") {
+                procedural.mortar = c.number("the mortar's width");
+                if (!(procedural.mortar >= 0.0 && procedural.mortar <= 1.0)) c.fail("the mortar's width must be between 0 and 1 (a fraction of a cell)");
+            } else if (key == "octaves") {
+                const double n = c.number("the most octaves");
+                if (!(n >= 1.0 && n <= 30.0 && n == std::floor(n))) c.fail("octaves must be a whole number from 1 to 30");
+                procedural.octaves = int(n);
+            } else if (key == "amplitude") {
+                procedural.amplitude = c.number("the turbulence's amplitude");
+                if (!(std::fabs(procedural.amplitude) <= 1e6)) c.fail("the turbulence's amplitude must be between -1e6 and 1e6");
+            } else if (key == "solid") procedural.solid = choose<bool>(c, "solid setting", {{"on", true}, {"off", false}});
             else if (key == "filter") {
                 std::map<std::string, Filter> filters;
                 for (int f = 0; f < filter_count; ++f) filters[filter_name(Filter(f))] = Filter(f);
@@ -400,9 +432,33 @@ private:
                 space = choose<ColorSpace>(c, "colour space", {{"srgb", ColorSpace::srgb}, {"linear", ColorSpace::linear}});
                 srgb_at = space == ColorSpace::srgb ? c.mark() : 0;
             }
-            else c.unknown_option("texture", key, "file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, clamp_overshoot or max_anisotropy");
+            else c.unknown_option("texture", key, "file, filter, wrap, wrap_u, wrap_v, border, registration, colorspace, cubic, "
+                                                  "clamp_overshoot, max_anisotropy; or procedural, scale, color0, color1, mortar, "
+                                                  "octaves, amplitude, solid");
         }
-        if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH'");
+        if (procedural_at != 0) {
+            if (image_option_at != 0)
+                c.fail_at(image_option_at, shown_token(image_option) + " is an image texture's option: texture " + shown_name(t.name) +
+                                               " is procedural (it has no texels to read, filter or wrap)");
+            const Pattern p = procedural.pattern;
+            if (c.seen("mortar") && p != Pattern::tile && p != Pattern::brick)
+                c.fail_at(c.where("mortar"), "'mortar' applies to the tile and brick patterns, not to " + std::string(pattern_name(p)));
+            if (c.seen("octaves") && p != Pattern::turbulence && p != Pattern::marble)
+                c.fail_at(c.where("octaves"), "'octaves' applies to the turbulence and marble patterns, not to " + std::string(pattern_name(p)));
+            if (c.seen("amplitude") && p != Pattern::marble)
+                c.fail_at(c.where("amplitude"), "'amplitude' applies to the marble pattern, not to " + std::string(pattern_name(p)));
+            if (procedural.solid && (p == Pattern::tile || p == Pattern::brick))
+                c.fail_at(c.where("solid"), std::string("the ") + pattern_name(p) +
+                                                " pattern is 2D: 'solid on' applies to checker, noise, turbulence and marble");
+            t.procedural = std::make_shared<const Procedural>(procedural);
+            texture_index_[t.name] = int(scene_.textures.size());
+            scene_.textures.push_back(std::move(t));
+            return;
+        }
+        if (procedural_option_at != 0)
+            c.fail_at(procedural_option_at, shown_token(procedural_option) + " is a procedural texture's option: texture " +
+                                                shown_name(t.name) + " reads an image (give 'procedural PATTERN' instead of 'file')");
+        if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH' (or 'procedural PATTERN')");
         t.image = image(c, file_at, t.path, space);
         if (srgb_at && t.image->is_hdr())  // (asked for, it would be ignored)
             c.fail_at(srgb_at, "a Radiance HDR image holds linear values: 'colorspace srgb' does not apply to it (leave it out)");
@@ -680,7 +736,10 @@ private:
     void add_object(Cursor& c, std::size_t at, Mesh mesh, Object object, const std::string& what) {
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const Material& m = scene_.materials[std::size_t(mesh.triangle_material[t])];
-            if (m.texture >= 0 && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
+            // (a solid texture reads the world position, not the mesh's UVs)
+            const bool solid = m.texture >= 0 && scene_.textures[std::size_t(m.texture)].procedural &&
+                               scene_.textures[std::size_t(m.texture)].procedural->solid;
+            if (m.texture >= 0 && !solid && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
                 c.fail_at(at, what + " has faces without texture coordinates (vt) drawn with material " + shown_name(m.name) +
                                   ", which uses texture " + shown_name(scene_.textures[std::size_t(m.texture)].name));
         }

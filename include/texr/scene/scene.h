@@ -15,6 +15,7 @@
 #include "texr/core/error.h"
 #include "texr/texture/image.h"
 #include "texr/texture/mipmap.h"
+#include "texr/texture/procedural.h"
 #include "texr/texture/sampler.h"
 
 namespace texr {
@@ -33,6 +34,9 @@ struct Texture {
     std::shared_ptr<const Image> image;
     std::shared_ptr<MipMap> mipmap;  // levels built on first minified lookup
     Sampler sampler;
+    // A procedural texture (texture/procedural.h) instead: then image and mipmap are null,
+    // path is empty and the sampler is unused.
+    std::shared_ptr<const Procedural> procedural;
 };
 
 enum class Lighting { none, lambert };
