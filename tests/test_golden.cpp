@@ -62,6 +62,10 @@ TEST_CASE("golden: demo scene (plane, lit torus, OBJ cube with two materials)") 
     check_golden("models/demo.scene", 200, 150, "demo.png");
 }
 
+TEST_CASE("golden: procedural textures (checkerboard, brick, marble, turbulence, a solid checkerboard box)") {
+    check_golden("models/procedural.scene", 200, 150, "procedural.png");
+}
+
 TEST_CASE("golden: every filter on the receding benchmark plane") {
     for (int f = 0; f < filter_count; ++f) {
         const Filter filter = Filter(f);
