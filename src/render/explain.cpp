@@ -187,17 +187,19 @@ std::string base_taps(const Texture& t, double u, double v) {
 
 // Step 6: the material's colour times what it reads, times the light, as the span walk
 // shades (scanline.h, shade): each attribute from its plane over w, divided by q.
-std::string shading(const PixelExplanation& e, const Scene& scene, const Material& m, const Color4& texel, double q) {
+// (u, v): the coordinates the pixel's lookups read (a bump map's too).
+std::string shading(const PixelExplanation& e, const Scene& scene, const Material& m, const Color4& texel, double q, double u,
+                    double v) {
     const Needs needs = needs_of(m, scene);
     const double x = e.x + 0.5, y = e.y + 0.5;
     const auto over_q = [&](const std::array<Plane, 3>& p) { return glm::dvec3(p[0].at(x, y), p[1].at(x, y), p[2].at(x, y)) / q; };
     const auto rgb = [](const Color& c) { return channels(c.x, c.y, c.z); };
     const bool lit = m.lighting == Lighting::lambert;
     std::string out = std::string("\n6. Shading (lighting ") + (lit ? "lambert" : "none") + "): linear colour = material colour" +
-                      (needs & need_uv ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
+                      (m.texture >= 0 ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
     Color c = m.color;
     out += "    material colour " + rgb(m.color) + "\n";
-    if (needs & need_uv) c *= Color(texel), out += "    x texture       " + rgb(Color(texel)) + "\n";
+    if (m.texture >= 0) c *= Color(texel), out += "    x texture       " + rgb(Color(texel)) + "\n";
     if (needs & need_color) {
         const Color vertex(over_q(e.vertex_color));
         c *= vertex, out += "    x vertex colour " + rgb(vertex) + " (its plane over w, / q)\n";
@@ -206,9 +208,27 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
         Color irradiance = scene.ambient;
         out += "    irradiance = ambient " + rgb(scene.ambient);
         if (needs & need_normal) {
-            const glm::dvec3 n = unit_direction(over_q(e.normal));
+            glm::dvec3 n = unit_direction(over_q(e.normal));
             const glm::dvec3 world = over_q(e.world);
             out += format(", N = (%.5f, %.5f, %.5f) (its plane over w, / q, normalised)\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+            if (m.bump >= 0) {
+                const Texture& t = scene.textures[std::size_t(m.bump)];
+                std::uint64_t texels = 0;
+                const BumpSlope slope = bump_slope(t, m.bump_height, u, v, texels);
+                const SurfaceTangents& o = e.tangents;
+                const glm::dvec3 area = glm::cross(o.o_u, o.o_v);
+                out += "    bump map " + shown_name(t.name) + format(": B(u, v) = %.6g x the texture's first channel = %.6g\n",
+                                                                  m.bump_height, bump_height_at(t, m.bump_height, u, v, texels));
+                out += format("      B_u = (B(u + h, v) - B(u - h, v)) / 2h = %.6g (h = %.4g), B_v = %.6g (h = %.4g)\n", slope.b_u,
+                              slope.step_u, slope.b_v, slope.step_v);
+                out += format("      the triangle's O_u = (%.5g, %.5g, %.5g), ", o.o_u.x, o.o_u.y, o.o_u.z) +
+                       format("O_v = (%.5g, %.5g, %.5g); |O_u x O_v| = %.5g", o.o_v.x, o.o_v.y, o.o_v.z, glm::length(area)) +
+                       (glm::dot(area, n) < 0.0 ? " (against N: s = -1)\n" : "\n");
+                const glm::dvec3 d = slope.b_u * glm::cross(n, o.o_v) - slope.b_v * glm::cross(n, o.o_u);
+                out += format("      D = B_u (N x O_v) - B_v (N x O_u) = (%.5g, %.5g, %.5g); ", d.x + 0.0, d.y + 0.0, d.z + 0.0);
+                n = unit_direction(bumped_normal(n, o, slope));
+                out += format("N' = N + s D / |O_u x O_v|, normalised: (%.5f, %.5f, %.5f)\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+            }
             for (std::size_t k = 0; k < scene.lights.size(); ++k) {
                 const Light& light = scene.lights[k];
                 glm::dvec3 to_light = -light.vector;
@@ -436,7 +456,9 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         out += "    the filter's value, linear RGBA: " + channels(texel) +
                format(" from %.0f texel read", double(texels)) + (texels == 1 ? "\n" : "s\n");
     }
-    out += shading(e, scene, m, texel, q);
+    double read_u = exact_u, read_v = exact_v;  // (what the span mode gave the lookups)
+    if (e.uv_read_known) read_u = e.uv_read.x, read_v = e.uv_read.y;
+    out += shading(e, scene, m, texel, q, read_u, read_v);
     out += format("\n7. Written: depth %.8f, linear colour ", e.depth) + channels(e.color.x, e.color.y, e.color.z) +
            format(",\n   in the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(e.color.x), linear_to_srgb8(e.color.y),
                   linear_to_srgb8(e.color.z));

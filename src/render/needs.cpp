@@ -19,6 +19,9 @@ Needs needs_of(const Material& material, const Scene& scene) {
         }
     }
     if (material.vertex_colors) needs |= need_color;
+    // A bump map: (u, v) to read it, the normal it changes, and the corners' world positions,
+    // which give the triangle's tangents O_u and O_v (setup_stage.h).
+    if (material.bump >= 0 && material.lighting == Lighting::lambert) needs |= need_uv | need_normal | need_world_position;
     if (material.lighting == Lighting::lambert && !scene.lights.empty()) {
         needs |= need_normal;
         for (const Light& light : scene.lights)

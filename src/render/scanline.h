@@ -18,6 +18,7 @@
 #include "texr/render/framebuffer.h"
 #include "texr/render/needs.h"
 #include "texr/render/stats.h"
+#include "texr/texture/bump.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/lod_avx2.h"
 #include "texr/texture/minify.h"
@@ -95,6 +96,7 @@ struct TriangleSetup {
     Plane u_affine, v_affine;  // SpanMode::affine only
     std::array<glm::dvec2, 3> screen;  // snapped vertices, for texr explain
     std::array<Plane, 3> normal, color, world;  // a/w planes, only those the draw needs
+    SurfaceTangents tangents;  // O_u and O_v in world space, for a bump-mapped material
 };
 
 // `ldr_texel`: the texel is an 8-bit texture's, each channel in [0, 1] (the short paths).
@@ -213,6 +215,7 @@ template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if constexpr (!has_short_paths<N>) return TexturePath::general;
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
+    if (!d.texture) return TexturePath::general;  // (a bump map's (u, v) without a texture)
     const Texture& t = *d.texture;
     if (t.procedural || !takes_short_path(*t.image, t.sampler)) return TexturePath::general;
     constexpr bool footprint = (N & need_uv_derivatives) != 0;
@@ -550,7 +553,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
             // (texels: a procedural texture's tolerance is in units of its pattern's cells)
-            if (const Procedural* p = d.texture->procedural.get())
+            if (!d.texture)  // (a bump map's (u, v): tolerance in units of u and v)
+                t.width = t.height = 1.0;
+            else if (const Procedural* p = d.texture->procedural.get())
                 t.width = t.height = p->scale;
             else
                 t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
@@ -590,14 +595,23 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                 if constexpr (perspective)
                     if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
                 Color4 texel(1.0f);
+                glm::dvec3 pixel_normal = normal.value() * inv_q;
                 if constexpr ((N & need_uv) != 0) {
                     const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
                     const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
+                    if constexpr (general && (N & need_normal) != 0)
+                        if (d.material.bump >= 0) {  // (the walk's general path: bump maps need world positions)
+                            const Texture& bump = d.scene.textures[std::size_t(d.material.bump)];
+                            const BumpSlope slope = bump_slope(bump, d.material.bump_height, u, v, texels);
+                            pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
+                        }
                     UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
                     if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
                         derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
                     if constexpr (general) {
-                        if (d.spp > 1) {
+                        if (!d.texture) {
+                            // (a material without a texture reads (u, v) for its bump map alone)
+                        } else if (d.spp > 1) {
                             texel = supersampled_texel(d, s, x, y, texels);
                         } else if (const Procedural* p = d.texture->procedural.get()) {
                             const glm::dvec3 at = world.value() * inv_q;  // (0 unless solid: then it is needed)
@@ -615,7 +629,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         texel = short_path_lookup<P>(short_path, u, v, lambda, texels);
                     }
                 }
-                color_row[x] = shade<N, !general>(d, texel, normal.value() * inv_q, color.value() * inv_q, world.value() * inv_q);
+                color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q);
                 ++shaded;
             }
             depth.advance();
@@ -676,6 +690,7 @@ void record(const DrawContext& d, const TriangleSetup& s, const Framebuffer& fb)
     e.covered = true;
     e.object = d.object, e.triangle = d.triangle, e.material = d.material_index, e.clipped = d.clipped;
     e.screen = s.screen, e.h = s.h, e.uv_shift = s.uv_shift, e.depth = fb.depth[i], e.color = fb.color[i];
+    e.tangents = s.tangents;
     // (the planes a material does not need are not set up: left as they are)
     if constexpr ((N & need_normal) != 0) e.normal = s.normal;
     if constexpr ((N & need_color) != 0) e.vertex_color = s.color;

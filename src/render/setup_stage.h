@@ -226,6 +226,15 @@ private:
             if (needs & need_world_position)
                 s.world[std::size_t(axis)] = over_w_plane(lambda, vertex_values(weights, tri, piece.clipped, [&](std::uint32_t i) { return v.world[i][axis]; }), inv_w);
         }
+        // A bump map's O_u and O_v: the whole triangle's (a clipped piece lies in its plane),
+        // from its corners' world positions and UVs (whole periods of a rebase change neither).
+        s.tangents = SurfaceTangents{};
+        if (material.bump >= 0 && (needs & need_world_position)) {
+            const glm::dvec3 p[3] = {v.world[tri[0]], v.world[tri[1]], v.world[tri[2]]};
+            const double us[3] = {mesh.vertices[tri[0]].uv.x, mesh.vertices[tri[1]].uv.x, mesh.vertices[tri[2]].uv.x};
+            const double vs[3] = {mesh.vertices[tri[0]].uv.y, mesh.vertices[tri[1]].uv.y, mesh.vertices[tri[2]].uv.y};
+            s.tangents = surface_tangents(p, us, vs);
+        }
         return true;
     }
 

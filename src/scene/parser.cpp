@@ -42,7 +42,7 @@ std::string not_in_texr_yet(const std::string& word) {
         {"environment", "environment and reflection maps"}, {"envmap", "environment and reflection maps"},
         {"reflection", "environment and reflection maps"}, {"reflect", "environment and reflection maps"},
         {"cubemap", "environment and reflection maps"}, {"skybox", "environment and reflection maps"},
-        {"lightmap", "light maps"}, {"light_map", "light maps"}, {"bump", "bump mapping"}, {"bump_map", "bump mapping"},
+        {"lightmap", "light maps"}, {"light_map", "light maps"}, 
         {"normal_map", "normal mapping"}, {"normalmap", "normal mapping"}, {"displacement", "displacement mapping"},
         {"displace", "displacement mapping"}, {"opacity", "opacity and billboards"}, {"alpha", "opacity and billboards"},
         {"transparency", "opacity and billboards"}, {"alpha_test", "opacity and billboards"}, {"blend", "opacity and billboards"},
@@ -528,8 +528,21 @@ private:
                 m.lighting = choose<Lighting>(c, "lighting", {{"none", Lighting::none}, {"lambert", Lighting::lambert}});
             else if (key == "vertex_colors")
                 m.vertex_colors = choose<bool>(c, "vertex_colors setting", {{"on", true}, {"off", false}});
-            else c.unknown_option("material", key, "color, texture, lighting or vertex_colors");
+            else if (key == "bump") {
+                const std::string name = c.word("a bump map's texture name");
+                auto it = texture_index_.find(name);
+                if (it == texture_index_.end()) c.fail("unknown texture " + shown_name(name) + " (define it with a 'texture' line first)");
+                const Texture& t = scene_.textures[std::size_t(it->second)];
+                if (t.procedural && t.procedural->solid)
+                    c.fail("texture " + shown_name(name) + " is solid: a bump map is read at (u, v) (leave out 'solid on')");
+                m.bump = it->second;
+                m.bump_height = c.number("the bump's height (world units for a texture value of 1)");
+                if (!(std::fabs(m.bump_height) <= 1e6)) c.fail("the bump's height must be between -1e6 and 1e6");
+            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors or bump");
         }
+        if (m.bump >= 0 && m.lighting != Lighting::lambert)
+            c.fail_at(c.where("bump"), "a bump map changes only the shading normal: material " + shown_name(m.name) +
+                                           " needs 'lighting lambert' for it to show");
         material_index_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
     }
@@ -739,9 +752,12 @@ private:
             // (a solid texture reads the world position, not the mesh's UVs)
             const bool solid = m.texture >= 0 && scene_.textures[std::size_t(m.texture)].procedural &&
                                scene_.textures[std::size_t(m.texture)].procedural->solid;
-            if (m.texture >= 0 && !solid && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
+            const bool reads_uv = (m.texture >= 0 && !solid) || m.bump >= 0;
+            if (reads_uv && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
                 c.fail_at(at, what + " has faces without texture coordinates (vt) drawn with material " + shown_name(m.name) +
-                                  ", which uses texture " + shown_name(scene_.textures[std::size_t(m.texture)].name));
+                                  ", which uses texture " +
+                                  shown_name(scene_.textures[std::size_t(m.texture >= 0 && !solid ? m.texture : m.bump)].name) +
+                                  (m.texture >= 0 && !solid ? "" : " as its bump map"));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));

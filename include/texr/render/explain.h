@@ -12,6 +12,7 @@
 #include "texr/raster/span_modes.h"
 #include "texr/render/needs.h"
 #include "texr/scene/scene.h"
+#include "texr/texture/bump.h"
 
 namespace texr {
 
@@ -28,6 +29,7 @@ struct PixelExplanation {
     // The piece's other attributes over w (normal, vertex colour, world position), as planes;
     // meaningful only for those its material needs.
     std::array<Plane, 3> normal{}, vertex_color{}, world{};
+    SurfaceTangents tangents;  // O_u and O_v, for a bump-mapped material
     double depth = 0.0;
     Color color{0.0f};         // linear, as written to the frame
     // The (u, v) the span walk gave the texture lookup (a span mode other than exact computes

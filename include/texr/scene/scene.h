@@ -47,6 +47,10 @@ struct Material {
     int texture = -1;               // index into Scene::textures, or -1
     Lighting lighting = Lighting::none;
     bool vertex_colors = false;     // multiply by the interpolated per-vertex colour
+    // Bump mapping (texture/bump.h): the texture whose first channel, times bump_height
+    // (world units), is the height B(u, v) the surface is virtually displaced by; -1: none.
+    int bump = -1;
+    double bump_height = 0.0;
 };
 
 struct Light {
