@@ -7,6 +7,7 @@
 
 #include "texr/core/error.h"
 #include "texr/core/scaling.h"
+#include "texr/texture/environment.h"
 #include "texr/texture/ewa.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/minify.h"
@@ -246,6 +247,24 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
         c *= irradiance;
         out += "    x irradiance    " + rgb(irradiance) + "\n";
     }
+    if (m.reflect > 0.0 && scene.environment >= 0 && (needs & need_world_position)) {
+        // (the normal as shaded: bumped where the material has a bump map)
+        glm::dvec3 n = unit_direction(over_q(e.normal));
+        if (m.bump >= 0) {
+            std::uint64_t texels = 0;
+            n = unit_direction(bumped_normal(n, e.tangents, bump_slope(scene.textures[std::size_t(m.bump)], m.bump_height, u, v, texels)));
+        }
+        const glm::dvec3 view = unit_direction(over_q(e.world) - scene.camera.eye);
+        const glm::dvec3 r = reflect_direction(view, n);
+        const glm::dvec2 uv = latlong_uv(r);
+        std::uint64_t texels = 0;
+        const Color mirrored(environment_value(scene.textures[std::size_t(scene.environment)], r, texels));
+        out += "    reflection: " + rgb(c) + format(" x (1 - %.4g) + the environment map along R x %.4g\n", m.reflect, m.reflect) +
+               format("      V = (%.5f, %.5f, %.5f) (eye to surface), ", view.x + 0.0, view.y + 0.0, view.z + 0.0) +
+               format("R = V - 2 (N . V) N = (%.5f, %.5f, %.5f)\n", r.x + 0.0, r.y + 0.0, r.z + 0.0) +
+               format("      map (u, v) = (%.6f, %.6f): ", uv.x, uv.y) + rgb(mirrored) + "\n";
+        c = float(1.0 - m.reflect) * c + float(m.reflect) * mirrored;
+    }
     return out + "    = " + rgb(c) + "\n";
 }
 
@@ -278,6 +297,19 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     const double x = e.x + 0.5, y = e.y + 0.5;
     std::string out = "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + "), sampled at its centre " +
                       format("(%.1f, %.1f)\n", x, y);
+    if (!e.covered && scene.environment >= 0) {
+        const Texture& map = scene.textures[std::size_t(scene.environment)];
+        const glm::dvec3 ray = pixel_ray(scene.camera, e.width, e.height, e.x, e.y);
+        const glm::dvec2 uv = latlong_uv(ray);
+        std::uint64_t texels = 0;
+        const Color4 value = environment_value(map, ray, texels);
+        return out + "no triangle covers it: the environment map " + shown_name(map.name) + " shows, seen along the pixel's ray\n" +
+               format("    ray d = (%.6g, %.6g, %.6g) (world space)\n", ray.x + 0.0, ray.y + 0.0, ray.z + 0.0) +
+               format("    u = 1/2 + atan2(d.x, -d.z) / 2 pi = %.6f, v = 1/2 + asin(d.y / |d|) / pi = %.6f\n", uv.x, uv.y) +
+               "    the map's value there, linear " + channels(value.x, value.y, value.z) +
+               format(",\nin the frame file as sRGB bytes (%.0f, %.0f, %.0f)\n", linear_to_srgb8(value.x), linear_to_srgb8(value.y),
+                      linear_to_srgb8(value.z));
+    }
     if (!e.covered)
         return out + "no triangle covers it: the background colour shows, linear " +
                channels(scene.background.x, scene.background.y, scene.background.z) +

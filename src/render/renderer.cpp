@@ -463,6 +463,7 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     if (options.explain_x >= 0 && options.explain_y >= 0 && options.explain_x < width && options.explain_y < height) {
         fb.explanation = std::make_shared<PixelExplanation>();
         fb.explanation->x = options.explain_x, fb.explanation->y = options.explain_y;
+        fb.explanation->width = width, fb.explanation->height = height;
     }
     std::vector<Needs> needs;
     for (const Material& m : scene.materials) needs.push_back(needs_of(m, scene));
@@ -505,8 +506,18 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     const auto start = Clock::now();
     auto work = [&](int w) {
         const RowSet rows{w, workers};
-        for (int y = rows.first_owned(0); y < height; y = rows.next_owned(y + RowSet::band_rows - 1))
-            fb.clear_rows(y, std::min(height, y + RowSet::band_rows), scene.background);
+        for (int y = rows.first_owned(0); y < height; y = rows.next_owned(y + RowSet::band_rows - 1)) {
+            const int last = std::min(height, y + RowSet::band_rows);
+            fb.clear_rows(y, last, scene.background);
+            // An environment map is the background: each pixel sees it along its own ray.
+            if (scene.environment >= 0) {
+                const Texture& map = scene.textures[std::size_t(scene.environment)];
+                std::uint64_t texels = 0;
+                for (int row = y; row < last; ++row)
+                    for (int x = 0; x < width; ++x)
+                        fb.color[fb.index(x, row)] = Color(environment_value(map, pixel_ray(scene.camera, width, height, x, row), texels));
+            }
+        }
         if (w == 0) clear_seconds = seconds_since(start);
         const auto share = [&](std::size_t first, std::size_t last, int k) { return first + (last - first) * std::size_t(k) / std::size_t(workers); };
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {

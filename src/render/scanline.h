@@ -19,6 +19,7 @@
 #include "texr/render/needs.h"
 #include "texr/render/stats.h"
 #include "texr/texture/bump.h"
+#include "texr/texture/environment.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/lod_avx2.h"
 #include "texr/texture/minify.h"
@@ -119,6 +120,16 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
         }
         c *= irradiance;
     }
+    // Reflection mapping: the environment map along the view ray reflected about the normal
+    // (environment.h), blended in by the material's share.
+    if constexpr ((N & need_normal) != 0 && (N & need_world_position) != 0)
+        if (d.material.reflect > 0.0 && d.scene.environment >= 0) {
+            const glm::dvec3 view = unit_direction(world - d.scene.camera.eye);
+            const glm::dvec3 r = reflect_direction(view, unit_direction(normal));
+            std::uint64_t texels = 0;
+            const Color mirrored(environment_value(d.scene.textures[std::size_t(d.scene.environment)], r, texels));
+            c = float(1.0 - d.material.reflect) * c + float(d.material.reflect) * mirrored;
+        }
     (void)texel, (void)normal, (void)color, (void)world;
     // An infinite texel (a float HDR texel times a bright material) times no light is NaN;
     // such a pixel is written as 0, the limit of its light, not as NaN. An 8-bit texel

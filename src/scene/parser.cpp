@@ -39,9 +39,8 @@ std::string not_in_texr_yet(const std::string& word) {
         {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"projective", "projective texture mapping"},
         {"projector", "projective texture mapping"}, {"spherical", "two-stage texture mapping"},
         {"cylindrical", "two-stage texture mapping"}, {"slope", "slope-based texture mapping"},
-        {"environment", "environment and reflection maps"}, {"envmap", "environment and reflection maps"},
-        {"reflection", "environment and reflection maps"}, {"reflect", "environment and reflection maps"},
-        {"cubemap", "environment and reflection maps"}, {"skybox", "environment and reflection maps"},
+        {"cubemap", "cube maps (texr's environment maps are latitude-longitude)"},
+        {"sphere_map", "sphere maps (texr's environment maps are latitude-longitude)"},
         {"lightmap", "light maps"}, {"light_map", "light maps"}, 
         {"normal_map", "normal mapping"}, {"normalmap", "normal mapping"}, {"displacement", "displacement mapping"},
         {"displace", "displacement mapping"}, {"opacity", "opacity and billboards"}, {"alpha", "opacity and billboards"},
@@ -280,7 +279,7 @@ public:
         const std::string& name = line.tokens[0];
         // The frame's settings are given once (a second line would silently win, or for the
         // camera merge its options with the first).
-        if (name == "size" || name == "camera" || name == "background" || name == "ambient") {
+        if (name == "size" || name == "camera" || name == "background" || name == "ambient" || name == "environment") {
             const auto [first, inserted] = settings_line_.emplace(name, line.number);
             if (!inserted) c.fail(shown_token(name) + " is given a second time (first on line " + std::to_string(first->second) + ")");
         }
@@ -288,6 +287,12 @@ public:
         else if (name == "camera") camera(c);
         else if (name == "background") scene_.background = c.color("background colour");
         else if (name == "ambient") scene_.ambient = c.color("ambient colour");
+        else if (name == "environment") {
+            const std::string texture = c.word("the environment map's texture name");
+            const auto it = texture_index_.find(texture);
+            if (it == texture_index_.end()) c.fail("unknown texture " + shown_name(texture) + " (define it with a 'texture' line first)");
+            scene_.environment = it->second;
+        }
         else if (name == "texture") texture(c);
         else if (name == "material") material(c);
         else if (name == "light") light(c);
@@ -295,7 +300,7 @@ public:
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
         else c.fail("unknown command " + shown_token(name) +
-                    " (expected size, camera, background, ambient, texture, material, light, mesh, triangle or quad)" +
+                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle or quad)" +
                     not_in_texr_yet(name));
         if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
@@ -538,7 +543,12 @@ private:
                 m.bump = it->second;
                 m.bump_height = c.number("the bump's height (world units for a texture value of 1)");
                 if (!(std::fabs(m.bump_height) <= 1e6)) c.fail("the bump's height must be between -1e6 and 1e6");
-            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors or bump");
+            } else if (key == "reflect") {
+                m.reflect = c.number("the share reflected (0 to 1)");
+                if (!(m.reflect >= 0.0 && m.reflect <= 1.0)) c.fail("the share reflected must be between 0 and 1");
+                if (scene_.environment < 0)
+                    c.fail("material " + shown_name(m.name) + " reflects the environment: give the 'environment TEXTURE' line before it");
+            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump or reflect");
         }
         if (m.bump >= 0 && m.lighting != Lighting::lambert)
             c.fail_at(c.where("bump"), "a bump map changes only the shading normal: material " + shown_name(m.name) +

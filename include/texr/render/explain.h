@@ -18,6 +18,7 @@ namespace texr {
 
 struct PixelExplanation {
     int x = 0, y = 0;
+    int width = 0, height = 0;  // the frame's (the ray through the pixel, for an environment map)
     bool covered = false;      // false: the background shows
     int object = -1;           // index into Scene::objects
     std::size_t triangle = 0;  // index into that object's mesh

@@ -51,6 +51,9 @@ struct Material {
     // (world units), is the height B(u, v) the surface is virtually displaced by; -1: none.
     int bump = -1;
     double bump_height = 0.0;
+    // Reflection mapping (texture/environment.h): this share of the colour is the scene's
+    // environment map along the reflected view ray, the rest the material's own shading.
+    double reflect = 0.0;
 };
 
 struct Light {
@@ -92,6 +95,7 @@ struct Scene {
     int width = 640, height = 480;
     Camera camera;
     Color background{0.0f, 0.0f, 0.0f};
+    int environment = -1;  // the environment map (a texture's index), seen behind everything; -1: none
     Color ambient{0.0f, 0.0f, 0.0f};
     std::vector<Texture> textures;
     std::vector<Material> materials;
