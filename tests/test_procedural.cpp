@@ -5,7 +5,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <string>
+#include <tuple>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "helpers.h"
 #include "texr/texture/procedural.h"
@@ -169,7 +173,9 @@ TEST_CASE("turbulence sums |noise(2^i p)| / 2^i over the octaves its footprint a
     CHECK(procedural_value(marble, at, 0.0).x == doctest::Approx(t).epsilon(1e-6));
     // Its footprint in the texture's units is scaled too: 1/128 of a unit at scale 2 is 1/64
     // of the pattern's, 6 octaves of the 8 (the other 2 by their mean).
-    const double t6 = 0.5 * (1.0 + std::sin(0.8 + 3.0 * turbulence(2.0 * at, 6.0, 8, mean_abs_noise_2d)));
+    // (and its sine is averaged over the footprint, 1/64 of the pattern's x: k = sin(f/2) / (f/2))
+    const double k = std::sin(1.0 / 128.0) / (1.0 / 128.0);
+    const double t6 = 0.5 * (1.0 + k * std::sin(0.8 + 3.0 * turbulence(2.0 * at, 6.0, 8, mean_abs_noise_2d)));
     marble.octaves = 8;
     CHECK(procedural_value(marble, at, 1.0 / 128.0).x == doctest::Approx(t6).epsilon(1e-6));
 }
@@ -248,7 +254,7 @@ TEST_CASE("procedural textures in scene files: options, messages, --stats, expla
     CHECK(r.output.find("texture t            procedural marble: no texels\n") != std::string::npos);
     CHECK(r.output.find("texture c            procedural checker, solid: no texels\n") != std::string::npos);
     CHECK(r.output.find(" needs uv, uv derivatives; skips normal, vertex colour, world position\n") != std::string::npos);  // m
-    CHECK(r.output.find(" needs uv, world position; skips uv derivatives, normal, vertex colour\n") != std::string::npos);  // n
+    CHECK(r.output.find(" needs world position; skips uv, uv derivatives, normal, vertex colour\n") != std::string::npos);  // n
     CHECK(r.output.find("texels fetched     0\n") != std::string::npos);
     // explain tells the checker's cell and parity at a pixel the triangle covers.
     write_text(dir + "/e.scene", head + "texture c procedural checker scale 4 color0 0 0 0 color1 1 1 1\nmaterial m texture c\n" + triangle);
@@ -300,4 +306,129 @@ TEST_CASE("turbulence on a receding plane: fewer octaves where pixels cover more
         octaves_at[k++] = octaves;
     }
     CHECK(octaves_at[0] < octaves_at[1]);
+}
+
+TEST_CASE("every gradient direction occurs, as often as the 16-entry table makes it, and the patterns' blends are the docs'") {
+    // Over 64^3 lattice points: the 8 directions listed once take about 1/16 each, the 4 listed
+    // twice about 2/16.
+    std::map<std::tuple<int, int, int>, int> counts;
+    const int n = 64;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k) {
+                const glm::dvec3 g = lattice_gradient(i, j, k);
+                ++counts[{int(g.x), int(g.y), int(g.z)}];
+            }
+    CHECK(counts.size() == 12);
+    const double total = double(n) * n * n;
+    for (const auto& [g, count] : counts) {
+        const auto [x, y, z] = g;
+        const bool twice = (x == 1 && y == 1 && z == 0) || (x == -1 && y == 1 && z == 0) || (x == 0 && y == -1 && z == 1) ||
+                           (x == 0 && y == -1 && z == -1);
+        CAPTURE(x);
+        CAPTURE(y);
+        CAPTURE(z);
+        CHECK(count / total == doctest::Approx((twice ? 2.0 : 1.0) / 16.0).epsilon(0.15));
+    }
+    // noise: (w n + 1) / 2 from color0 (0) to color1 (1), w = clamp(log2(1 / (2 f)) + 1, 0, 1).
+    const Procedural noise = pattern(Pattern::noise);
+    const glm::dvec3 at(3.3, 7.1, 0.0);
+    const double n0 = gradient_noise(at);
+    CHECK(procedural_value(noise, at, 0.0).x == doctest::Approx((n0 + 1.0) / 2.0).epsilon(1e-6));
+    CHECK(procedural_value(noise, at, 1.0 / 3.0).x == doctest::Approx((n0 + 1.0) / 2.0).epsilon(1e-6));  // w = 1
+    CHECK(procedural_value(noise, at, 1.0).x == 0.5f);  // w = 0: its mean
+    const double w = std::log2(1.0 / 1.4) + 1.0;
+    CHECK(procedural_value(noise, at, 0.7).x == doctest::Approx((w * n0 + 1.0) / 2.0).epsilon(1e-6));
+    // turbulence: min(1, turbulence), at every octave for a point.
+    Procedural turb = pattern(Pattern::turbulence, 3.0);
+    turb.octaves = 4;
+    const double t = turbulence(3.0 * at, 4.0, 4, mean_abs_noise_2d);
+    REQUIRE(t < 1.0);
+    CHECK(procedural_value(turb, at, 0.0).x == doctest::Approx(t).epsilon(1e-6));
+    // Not finite: color0, for every pattern.
+    for (int p = 0; p < pattern_count; ++p) CHECK(procedural_value(pattern(Pattern(p), 3.0), {1e308, 1e308, 0.0}, 0.0) == Color4(0, 0, 0, 1));
+    CHECK(turbulence_octaves(INFINITY, 8) == 0.0);
+    // Checker cells far beyond 2^53 keep their parity: (2^60, 1) is odd.
+    CHECK(which(pattern(Pattern::checker), std::ldexp(1.0, 60), 1.5) == 1);
+}
+
+TEST_CASE("a solid checkerboard on a floor lying on a cell boundary is one cell deep, not speckled, and explain says what was written") {
+    // A floor at y = 1 under a solid checkerboard of scale 1: its cells are those of
+    // (floor(x) + 1 + floor(z)) mod 2, every pixel's point found by unprojecting its centre.
+    const std::string dir = scratch_folder("procedural-boundary");
+    Camera camera;
+    camera.eye = {0.3, 2, 0.2}, camera.target = {0, 1, -4}, camera.fov_y_degrees = 60;
+    write_text(dir + "/f.scene", "size 80 60\ncamera eye 0.3 2 0.2 target 0 1 -4 up 0 1 0 fov 60\n"
+                                 "texture floor procedural checker scale 1 solid on color0 0 0 0 color1 1 1 1\nmaterial fl texture floor\n"
+                                 "quad material fl v -50 1 50 0 0 v 50 1 50 1 0 v 50 1 -50 1 1 v -50 1 -50 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/f.scene -o " + dir + "/f.ppm").exit_code == 0);
+    const std::string pixels = ppm_pixels(dir + "/f.ppm", 80, 60);
+    const glm::dmat4 inverse = glm::inverse(projection_matrix(camera, 80.0 / 60.0) * view_matrix(camera));
+    int checked = 0, wrong = 0;
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 80; ++x) {
+            const glm::dvec4 far = inverse * glm::dvec4(2.0 * (x + 0.5) / 80 - 1.0, 1.0 - 2.0 * (y + 0.5) / 60, 1.0, 1.0);
+            const glm::dvec3 ray = glm::dvec3(far) / far.w - camera.eye;
+            if (!(ray.y < -1e-3)) continue;  // (the sky)
+            const glm::dvec3 point = camera.eye + ray * ((1.0 - camera.eye.y) / ray.y);
+            // (the corners' 1/256-pixel snapping moves the floor's points by some 1e-4 of their
+            // distance: pixels that near a cell's side in x or z are left alone)
+            const double margin = 1e-4 * glm::length(point - camera.eye);
+            if (std::fabs(point.x - std::round(point.x)) < margin || std::fabs(point.z - std::round(point.z)) < margin) continue;
+            if (std::fabs(point.x) > 49 || std::fabs(point.z) > 49) continue;
+            const int want = int(std::fabs(std::fmod(std::floor(point.x) + 1.0 + std::floor(point.z), 2.0))) ? 255 : 0;
+            ++checked;
+            if (std::uint8_t(pixels[3 * std::size_t(y * 80 + x)]) != want) {
+                ++wrong;
+                MESSAGE("pixel " << x << ", " << y << " at (" << point.x << ", " << point.z << ")");
+            }
+        }
+    CHECK(checked > 2000);
+    CHECK(wrong == 0);
+    // explain's bytes are the frame's, for 2D and solid patterns, along a row.
+    write_text(dir + "/all.scene",
+               "size 80 60\ncamera eye 0 1.2 3 target 0 0.4 0 fov 60\nlight directional -0.3 -1 -0.4\nambient 0.2 0.2 0.2\n"
+               "texture a procedural marble scale 3 amplitude 2\ntexture b procedural turbulence scale 2 solid on\n"
+               "texture c procedural noise scale 6\ntexture d procedural brick scale 3\n"
+               "texture e procedural marble scale 2 solid on\ntexture f procedural checker scale 2.5 solid on\n"
+               "material ma texture a\nmaterial mb texture b lighting lambert\nmaterial mc texture c\nmaterial md texture d\n"
+               "material me texture e\nmaterial mf texture f\n"
+               "quad material ma v -3 0 3 0 0 v -1 0 3 1 0 v -1 0 -3 1 3 v -3 0 -3 0 3\n"
+               "quad material mb v -1 0 3 0 0 v 1 0 3 1 0 v 1 0 -3 1 3 v -1 0 -3 0 3\n"
+               "quad material mc v 1 0 3 0 0 v 3 0 3 1 0 v 3 0 -3 1 3 v 1 0 -3 0 3\n"
+               "quad material md v -3 0 -3 0 0 v -1 0 -3 1 0 v -1 2 -3 1 1 v -3 2 -3 0 1\n"
+               "quad material me v -1 0 -3 0 0 v 1 0 -3 1 0 v 1 2 -3 1 1 v -1 2 -3 0 1\n"
+               "quad material mf v 1 0 -3 0 0 v 3 0 -3 1 0 v 3 2 -3 1 1 v 1 2 -3 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/all.scene -o " + dir + "/all.ppm").exit_code == 0);
+    const std::string all = ppm_pixels(dir + "/all.ppm", 80, 60);
+    int compared = 0;
+    for (const int y : {12, 30, 50})
+        for (int x = 1; x < 80; x += 6) {
+            const RunResult r = run_texr("explain " + dir + "/all.scene " + std::to_string(x) + " " + std::to_string(y));
+            REQUIRE(r.exit_code == 0);
+            const std::size_t at = r.output.rfind("in the frame file as sRGB bytes (");
+            REQUIRE(at != std::string::npos);
+            int rgb[3];
+            REQUIRE(std::sscanf(r.output.c_str() + at, "in the frame file as sRGB bytes (%d, %d, %d)", &rgb[0], &rgb[1], &rgb[2]) == 3);
+            CAPTURE(x);
+            CAPTURE(y);
+            for (int k = 0; k < 3; ++k) CHECK(rgb[k] == int(std::uint8_t(all[3 * std::size_t(y * 80 + x) + std::size_t(k)])));
+            compared += r.output.find("(procedural ") != std::string::npos;
+        }
+    CHECK(compared >= 30);
+    // A solid turbulence floor is band-limited by the world position's footprint: fewer
+    // octaves far off (row 29, below the horizon at row 26.7) than near (row 59).
+    write_text(dir + "/solid.scene", "size 80 60\ncamera eye 0 1 0 target 0 0.75 -4 fov 60\n"
+                                     "texture t procedural turbulence scale 2 solid on octaves 10\nmaterial m texture t\n"
+                                     "quad material m v -50 0 5 0 0 v 50 0 5 1 0 v 50 0 -95 1 1 v -50 0 -95 0 1\n");
+    double octaves[2];
+    int k = 0;
+    for (const int row : {29, 59}) {
+        const RunResult r = run_texr("explain " + dir + "/solid.scene 40 " + std::to_string(row));
+        const std::size_t kept = r.output.find("2 footprints: ");
+        REQUIRE(kept != std::string::npos);
+        octaves[k++] = std::stod(r.output.substr(kept + 14));
+    }
+    CHECK(octaves[0] < octaves[1]);
+    CHECK(octaves[0] < 10.0);
 }

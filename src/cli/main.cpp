@@ -100,9 +100,10 @@ const char* render_help =
     "                      them (e.g. --threads 1 each on 2 cores): more workers than\n"
     "                      cores make each frame slower\n"
     "  --spp N             texture ground truth, 1..64: from 2 on, N x N samples per\n"
-    "                      pixel, each a bilinear lookup at its exact (u, v), box-\n"
-    "                      filtered; 1 (default) is the ordinary render, one lookup\n"
-    "                      with the texture's own filter\n"
+    "                      pixel, each a bilinear lookup at its exact (u, v) (a\n"
+    "                      procedural texture: its pattern there, every octave),\n"
+    "                      box-filtered; 1 (default) is the ordinary render, one\n"
+    "                      lookup with the texture's own filter\n"
     "  --span MODE         how (u, v) are computed along spans: exact, incremental\n"
     "                      (default), affine8, affine16, affine32, affine (no\n"
     "                      perspective: wrong, for contrast) or adaptive\n"
@@ -434,6 +435,8 @@ int run_explain(const std::vector<std::string>& argv) {
     e.span_mode = o.span_mode;
     e.uv_read = fb.uv[fb.index(x, y)];
     e.uv_read_known = e.covered && !std::isnan(e.uv_read.x) && !std::isnan(e.uv_read.y);
+    e.world_read = fb.world_read[fb.index(x, y)];
+    e.world_read_known = e.covered && !std::isnan(e.world_read.x);
     std::fputs(texr::describe(e, scene).c_str(), stdout);
     return 0;
 }

@@ -374,10 +374,11 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     if (m.texture >= 0 && scene.textures[std::size_t(m.texture)].procedural) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
         const Procedural& p = *t.procedural;
-        // The (u, v) the span mode gave the pixel, as for an image (below).
+        // The (u, v) the span mode gave the pixel, as for an image (below); a solid texture reads
+        // the world position instead, which every span mode steps perspective-correctly.
         double u = exact_u, v = exact_v;
         UVDerivatives d = exact_d;
-        if (e.uv_read_known && (e.uv_read.x != exact_u || e.uv_read.y != exact_v)) {
+        if (!p.solid && e.uv_read_known && (e.uv_read.x != exact_u || e.uv_read.y != exact_v)) {
             u = e.uv_read.x, v = e.uv_read.y;
             d = uv_derivatives(e.h, u, v, q);
             out += std::string("\n   --span ") + span_mode_name(e.span_mode) +
@@ -385,15 +386,19 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         }
         glm::dvec3 world(0.0);
         double footprint = 0.0;
-        const bool band_limited = (needs_of(m, scene) & need_uv_derivatives) != 0;
+        const bool band_limited = p.pattern != Pattern::checker && p.pattern != Pattern::tile && p.pattern != Pattern::brick;
         if (p.solid) {
+            for (int i = 0; i < 3; ++i) world[i] = e.world[std::size_t(i)].at(x, y) / q;
+            // The span walk steps P' and q along the row: the position it read may differ from
+            // the plane equations' in the last digits (and, by a cell boundary, in the cell).
+            if (e.world_read_known) world = e.world_read;
             glm::dvec3 dx, dy;
             for (int i = 0; i < 3; ++i) {
-                world[i] = e.world[std::size_t(i)].at(x, y) / q;
                 dx[i] = (e.world[std::size_t(i)].dx - world[i] * e.h.q.dx) / q;
                 dy[i] = (e.world[std::size_t(i)].dy - world[i] * e.h.q.dy) / q;
             }
-            out += format("\n   the world position at the pixel centre, P = P'/q: (%.6g, %.6g, %.6g)\n", world.x, world.y, world.z);
+            out += format("\n   the world position the pixel read, P = P'/q (stepped along the row): (%.10g, %.10g, %.10g)\n",
+                          world.x, world.y, world.z);
             if (band_limited) footprint = std::max(glm::length(dx), glm::length(dy));
         } else if (band_limited) {
             footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));

@@ -7,15 +7,19 @@ Needs needs_of(const Material& material, const Scene& scene) {
     Needs needs = 0;
     if (material.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(material.texture)];
-        needs |= need_uv;
-        if (t.procedural) {
-            // Turbulence (and marble's) is band-limited by the footprint; a solid texture reads
-            // the world position (and its derivatives, from the same planes).
-            const Pattern p = t.procedural->pattern;
-            if (p == Pattern::turbulence || p == Pattern::marble) needs |= need_uv_derivatives;
-            if (t.procedural->solid) needs |= need_world_position;
-        } else if (uses_footprint(t.sampler.filter)) {
-            needs |= need_uv_derivatives;
+        if (t.procedural && t.procedural->solid) {
+            // A solid texture reads the world position alone (its footprint comes from the same
+            // planes: scanline.h, world_footprint).
+            needs |= need_world_position;
+        } else if (t.procedural) {
+            // Noise, turbulence and marble are band-limited by the footprint.
+            needs |= need_uv;
+            if (t.procedural->pattern != Pattern::checker && t.procedural->pattern != Pattern::tile &&
+                t.procedural->pattern != Pattern::brick)
+                needs |= need_uv_derivatives;
+        } else {
+            needs |= need_uv;
+            if (uses_footprint(t.sampler.filter)) needs |= need_uv_derivatives;
         }
     }
     if (material.vertex_colors) needs |= need_color;

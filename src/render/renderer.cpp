@@ -457,9 +457,10 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     const int width = options.width > 0 ? options.width : scene.width;
     const int height = options.height > 0 ? options.height : scene.height;
     fb.resize_uncleared(width, height);  // each worker clears its own rows
-    fb.coverage.clear(), fb.uv.clear(), fb.explanation.reset();
+    fb.coverage.clear(), fb.uv.clear(), fb.world_read.clear(), fb.explanation.reset();
     if (options.count_coverage) fb.coverage.assign(fb.color.size(), 0);
     if (options.capture_uv) fb.uv.assign(fb.color.size(), glm::dvec2(std::nan("")));
+    if (options.capture_uv) fb.world_read.assign(fb.color.size(), glm::dvec3(std::nan("")));
     if (options.explain_x >= 0 && options.explain_y >= 0 && options.explain_x < width && options.explain_y < height) {
         fb.explanation = std::make_shared<PixelExplanation>();
         fb.explanation->x = options.explain_x, fb.explanation->y = options.explain_y;

@@ -105,7 +105,8 @@ template <Needs N, bool ldr_texel = false>
 Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal, const glm::dvec3& color,
             const glm::dvec3& world) {
     Color c = d.material.color;
-    if constexpr ((N & need_uv) != 0) c *= Color(texel);
+    // (a solid texture's texel comes with the world position, without (u, v); 1 where no texture)
+    if constexpr ((N & (need_uv | need_world_position)) != 0) c *= Color(texel);
     if constexpr ((N & need_color) != 0) c *= Color(color);
     if (d.material.lighting == Lighting::lambert) {
         Color irradiance = d.scene.ambient;
@@ -563,11 +564,14 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         if (!stepped_uv) {
             SpanTexturing t;
             t.h = &s.h, t.u_affine = s.u_affine, t.v_affine = s.v_affine, t.tolerance = d.span_tolerance;
-            // (texels: a procedural texture's tolerance is in units of its pattern's cells)
+            // (texels: a procedural texture's tolerance is in its finest detail's units: a cell of
+            // its pattern, or of turbulence's last octave)
             if (!d.texture)  // (a bump map's (u, v): tolerance in units of u and v)
                 t.width = t.height = 1.0;
             else if (const Procedural* p = d.texture->procedural.get())
-                t.width = t.height = p->scale;
+                t.width = t.height = p->pattern == Pattern::turbulence || p->pattern == Pattern::marble
+                                         ? std::ldexp(p->scale, p->octaves - 1)
+                                         : p->scale;
             else
                 t.width = d.texture->mipmap->base().width(), t.height = d.texture->mipmap->base().height();
             if (d.span_mode == SpanMode::adaptive && adaptive_steps_whole_span(t, y, x0, span.x1 - x0))
@@ -598,6 +602,10 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         float* depth_row = &fb.depth[fb.index(0, y)];
         Color* color_row = &fb.color[fb.index(0, y)];
         glm::dvec2* uv_row = !general || fb.uv.empty() ? nullptr : &fb.uv[fb.index(0, y)];
+        glm::dvec3* world_row = !general || fb.world_read.empty() ? nullptr : &fb.world_read[fb.index(0, y)];
+        // A solid procedural texture reads the world position, not (u, v).
+        const Procedural* solid = d.texture && d.texture->procedural && d.texture->procedural->solid ? d.texture->procedural.get() : nullptr;
+        (void)solid, (void)world_row;
         std::uint64_t shaded = 0, texels = 0;
         for (int x = span.x0; x < span.x1; ++x) {
             if (float(depth.value) < depth_row[x]) {
@@ -620,16 +628,14 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                     if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
                         derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
                     if constexpr (general) {
-                        if (!d.texture) {
-                            // (a material without a texture reads (u, v) for its bump map alone)
+                        if (!d.texture || solid) {
+                            // (a material without a texture reads (u, v) for its bump map alone;
+                            // a solid texture is read below)
                         } else if (d.spp > 1) {
                             texel = supersampled_texel(d, s, x, y, texels);
                         } else if (const Procedural* p = d.texture->procedural.get()) {
-                            const glm::dvec3 at = world.value() * inv_q;  // (0 unless solid: then it is needed)
-                            const double footprint = (N & need_uv_derivatives) == 0 ? 0.0
-                                                     : p->solid                      ? world_footprint(s, at, inv_q)
-                                                                                     : uv_footprint(derivatives);
-                            texel = procedural_texel(*p, u, v, at, footprint);
+                            const double footprint = (N & need_uv_derivatives) == 0 ? 0.0 : uv_footprint(derivatives);
+                            texel = procedural_value(*p, {u, v, 0.0}, footprint);
                         } else {
                             texel = lookup(*d.texture, u, v, derivatives, texels);
                         }
@@ -640,6 +646,15 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         texel = short_path_lookup<P>(short_path, u, v, lambda, texels);
                     }
                 }
+                if constexpr (general && (N & need_world_position) != 0)
+                    if (solid) {
+                        const glm::dvec3 at = world.value() * inv_q;
+                        if (d.spp > 1)
+                            texel = supersampled_texel(d, s, x, y, texels);
+                        else  // (the checkerboard needs no footprint)
+                            texel = procedural_value(*solid, at, solid->pattern == Pattern::checker ? 0.0 : world_footprint(s, at, inv_q));
+                        if (world_row) world_row[x] = at;
+                    }
                 color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q);
                 ++shaded;
             }

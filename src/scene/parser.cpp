@@ -460,9 +460,12 @@ private:
             scene_.textures.push_back(std::move(t));
             return;
         }
-        if (procedural_option_at != 0)
+        if (procedural_option_at != 0 && !t.path.empty())
             c.fail_at(procedural_option_at, shown_token(procedural_option) + " is a procedural texture's option: texture " +
                                                 shown_name(t.name) + " reads an image (give 'procedural PATTERN' instead of 'file')");
+        if (procedural_option_at != 0)
+            c.fail_at(procedural_option_at, shown_token(procedural_option) + " is a procedural texture's option: texture " +
+                                                shown_name(t.name) + " needs 'procedural PATTERN' for it");
         if (t.path.empty()) c.fail("texture " + shown_name(t.name) + " needs 'file PATH' (or 'procedural PATTERN')");
         t.image = image(c, file_at, t.path, space);
         if (srgb_at && t.image->is_hdr())  // (asked for, it would be ignored)

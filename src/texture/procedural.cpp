@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 namespace texr {
 
@@ -62,6 +63,47 @@ Color mix(const Color& a, const Color& b, double t) { return a + float(t) * (b -
 
 double mean_abs(const Procedural& p) { return p.solid ? mean_abs_noise_3d : mean_abs_noise_2d; }
 
+// The lattice cell of pattern coordinates: each floored after a nudge of about 1e-12 of its
+// size (and 1e-9 near 0), so that a surface lying on a cell boundary (a floor at y = 1 under
+// a solid checker), whose coordinates the renderer works out a rounding error to either side
+// of it from pixel to pixel, falls in one cell, not in both at random.
+glm::dvec3 cell(const glm::dvec3& c) {
+    const auto nudged = [](double x) { return std::floor(x + (1e-9 + 1e-12 * std::fabs(x))); };
+    return {nudged(c.x), nudged(c.y), nudged(c.z)};
+}
+
+// The checkerboard's parity, (lu + lv (+ lw)) mod 2, from each coordinate's own parity: the
+// sum of cells beyond 2^53 would round.
+int checker_parity(const glm::dvec3& c, bool solid) {
+    const glm::dvec3 l = cell(c);
+    const auto odd = [](double x) { return std::fabs(std::fmod(x, 2.0)) == 1.0 ? 1 : 0; };
+    return (odd(l.x) + odd(l.y) + (solid ? odd(l.z) : 0)) % 2;
+}
+
+// Tile's and brick's fractions fu, fv of the cell (brick: odd rows shifted by half a cell).
+glm::dvec2 tile_fractions(const glm::dvec3& c, bool brick) {
+    double u = c.x;
+    const double row = cell(c).y;
+    if (brick) u -= 0.5 * std::fabs(std::fmod(row, 2.0));
+    return {u - cell({u, 0.0, 0.0}).x, c.y - row};
+}
+
+// Noise's blend (weight noise + 1) / 2, where the weight, the share of its one octave that the
+// footprint allows (turbulence_octaves(f, 1)), fades it to its mean, 0, as its period falls
+// below 2 footprints.
+double noise_blend(const glm::dvec3& c, double f) {
+    return std::clamp(0.5 * (std::min(1.0, turbulence_octaves(f, 1)) * gradient_noise(c) + 1.0), 0.0, 1.0);
+}
+
+// Marble's sine, averaged over a footprint f wide along x: sin(x) times sin(f/2) / (f/2) (the
+// mean of a sine over an interval), taken as 0 from f = 2 pi on, where a pixel spans a whole
+// period; 1 for a point.
+double sine_filter(double f) {
+    if (!(f > 0.0)) return 1.0;
+    if (!(f < 2.0 * 3.14159265358979323846)) return 0.0;
+    return std::sin(0.5 * f) / (0.5 * f);
+}
+
 std::string format(const char* pattern, double a = 0, double b = 0, double c = 0, double d = 0) {
     const int n = std::snprintf(nullptr, 0, pattern, a, b, c, d);
     std::string out(std::size_t(n > 0 ? n : 0) + 1, '\0');
@@ -100,7 +142,8 @@ double gradient_noise(const glm::dvec3& p) {
 }
 
 double turbulence_octaves(double footprint, int most) {
-    if (!(footprint > 0.0) || !std::isfinite(footprint)) return double(most);
+    if (!(footprint > 0.0)) return double(most);  // (0 or NaN: no footprint)
+    if (!std::isfinite(footprint)) return 0.0;
     // Octave i is kept while 2^-i >= 2 footprint: i <= log2(1 / (2 footprint)).
     const double count = std::log2(1.0 / (2.0 * footprint)) + 1.0;
     return std::min(double(most), std::max(0.0, count));
@@ -120,29 +163,24 @@ double turbulence(const glm::dvec3& p, double octaves, int most, double mean_abs
 Color4 procedural_value(const Procedural& p, const glm::dvec3& coordinates, double footprint) {
     const glm::dvec3 c = p.scale * coordinates;
     const double f = p.scale * footprint;
+    // (a coordinate beyond a double's range, or NaN: no pattern to evaluate)
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z))) return Color4(p.color0, 1.0f);
     Color out = p.color0;
     switch (p.pattern) {
-        case Pattern::checker: {
-            // The lecture's parity of the lattice cell: (floor u + floor v (+ floor w)) mod 2.
-            const double sum = std::floor(c.x) + std::floor(c.y) + (p.solid ? std::floor(c.z) : 0.0);
-            out = std::fabs(std::fmod(sum, 2.0)) == 1.0 ? p.color1 : p.color0;
-            break;
-        }
+        case Pattern::checker: out = checker_parity(c, p.solid) == 1 ? p.color1 : p.color0; break;
         case Pattern::tile:
         case Pattern::brick: {
-            double u = c.x;
-            if (p.pattern == Pattern::brick) u -= 0.5 * std::fabs(std::fmod(std::floor(c.y), 2.0));  // odd rows shifted
-            const double fu = u - std::floor(u), fv = c.y - std::floor(c.y);
-            out = (fu < p.mortar || fv < p.mortar) ? p.color1 : p.color0;
+            const glm::dvec2 fraction = tile_fractions(c, p.pattern == Pattern::brick);
+            out = (fraction.x < p.mortar || fraction.y < p.mortar) ? p.color1 : p.color0;
             break;
         }
-        case Pattern::noise: out = mix(p.color0, p.color1, std::clamp(0.5 * (gradient_noise(c) + 1.0), 0.0, 1.0)); break;
+        case Pattern::noise: out = mix(p.color0, p.color1, noise_blend(c, f)); break;
         case Pattern::turbulence:
             out = mix(p.color0, p.color1, std::clamp(turbulence(c, turbulence_octaves(f, p.octaves), p.octaves, mean_abs(p)), 0.0, 1.0));
             break;
         case Pattern::marble: {
             const double t = turbulence(c, turbulence_octaves(f, p.octaves), p.octaves, mean_abs(p));
-            out = mix(p.color0, p.color1, 0.5 * (1.0 + std::sin(c.x + p.amplitude * t)));
+            out = mix(p.color0, p.color1, 0.5 * (1.0 + sine_filter(f) * std::sin(c.x + p.amplitude * t)));
             break;
         }
     }
@@ -154,48 +192,51 @@ std::string procedural_steps(const Procedural& p, const glm::dvec3& coordinates,
     const double f = p.scale * footprint;
     std::string out = format("    pattern coordinates = scale %.6g x ", p.scale) +
                       (p.solid ? "the world position" : "(u, v, 0)") + format(" = (%.6g, %.6g, %.6g)\n", c.x, c.y, c.z);
-    switch (p.pattern) {
-        case Pattern::checker: {
-            const double lu = std::floor(c.x), lv = std::floor(c.y), lw = p.solid ? std::floor(c.z) : 0.0;
-            const bool odd = std::fabs(std::fmod(lu + lv + lw, 2.0)) == 1.0;
-            out += p.solid ? format("    lattice (lu, lv, lw) = (%.0f, %.0f, %.0f): parity (lu + lv + lw) %% 2 = ", lu, lv, lw)
-                           : format("    lattice (lu, lv) = (%.0f, %.0f): parity (lu + lv) %% 2 = ", lu, lv);
-            out += odd ? "1: color1\n" : "0: color0\n";
-            break;
-        }
-        case Pattern::tile:
-        case Pattern::brick: {
-            double u = c.x;
-            if (p.pattern == Pattern::brick) {
-                const double parity = std::fabs(std::fmod(std::floor(c.y), 2.0));
-                out += format("    row parity floor(v) %% 2 = %.0f: u - parity/2 = %.6g\n", parity, u - 0.5 * parity);
-                u -= 0.5 * parity;
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z))) {
+        out += "    (not finite: color0)\n";
+    } else {
+        switch (p.pattern) {
+            case Pattern::checker: {
+                const glm::dvec3 l = cell(c);
+                out += p.solid ? format("    lattice (lu, lv, lw) = (%.0f, %.0f, %.0f): parity (lu + lv + lw) %% 2 = ", l.x, l.y, l.z)
+                               : format("    lattice (lu, lv) = (%.0f, %.0f): parity (lu + lv) %% 2 = ", l.x, l.y);
+                out += checker_parity(c, p.solid) == 1 ? "1: color1\n" : "0: color0\n";
+                break;
             }
-            const double fu = u - std::floor(u), fv = c.y - std::floor(c.y);
-            out += format("    fractions fu = %.6g, fv = %.6g against the mortar's width %.6g: ", fu, fv, p.mortar) +
-                   (fu < p.mortar || fv < p.mortar ? "mortar (color1)\n" : "tile (color0)\n");
-            break;
-        }
-        case Pattern::noise: {
-            const double n = gradient_noise(c);
-            out += format("    gradient noise = %.6g: blend t = (noise + 1) / 2 = %.6g of color0 -> color1\n", n,
-                          std::clamp(0.5 * (n + 1.0), 0.0, 1.0));
-            break;
-        }
-        case Pattern::turbulence:
-        case Pattern::marble: {
-            const double octaves = turbulence_octaves(f, p.octaves);
-            out += format("    footprint %.4g pattern units: octaves kept while their period 2^-i >= 2 footprints: %.4g", f, octaves) +
-                   format(" (at most %.0f)\n", p.octaves);
-            const double t = turbulence(c, octaves, p.octaves, mean_abs(p));
-            out += format("    turbulence = sum of |noise(2^i p)| / 2^i = %.6g", t) +
-                   (octaves < p.octaves ? format(" (the octaves beyond %.4g by their mean, %.4g / 2^i)\n", octaves, mean_abs(p)) : "\n");
-            if (p.pattern == Pattern::turbulence)
-                out += format("    blend t = min(turbulence, 1) = %.6g of color0 -> color1\n", std::clamp(t, 0.0, 1.0));
-            else
-                out += format("    blend t = (1 + sin(x + %.6g turbulence)) / 2 = %.6g of color0 -> color1\n", p.amplitude,
-                              0.5 * (1.0 + std::sin(c.x + p.amplitude * t)));
-            break;
+            case Pattern::tile:
+            case Pattern::brick: {
+                if (p.pattern == Pattern::brick) {
+                    const double parity = std::fabs(std::fmod(cell(c).y, 2.0));
+                    out += format("    row parity floor(v) %% 2 = %.0f: u - parity/2 = %.6g\n", parity, c.x - 0.5 * parity);
+                }
+                const glm::dvec2 fraction = tile_fractions(c, p.pattern == Pattern::brick);
+                out += format("    fractions fu = %.6g, fv = %.6g against the mortar's width %.6g: ", fraction.x, fraction.y, p.mortar) +
+                       (fraction.x < p.mortar || fraction.y < p.mortar ? "mortar (color1)\n" : "tile (color0)\n");
+                break;
+            }
+            case Pattern::noise: {
+                const double n = gradient_noise(c), weight = std::min(1.0, turbulence_octaves(f, 1));
+                out += format("    gradient noise = %.6g; footprint %.4g pattern units: its weight %.4g (1 while its period is at "
+                              "least 2 footprints)\n", n, f, weight) +
+                       format("    blend t = (weight x noise + 1) / 2 = %.6g of color0 -> color1\n", noise_blend(c, f));
+                break;
+            }
+            case Pattern::turbulence:
+            case Pattern::marble: {
+                const double octaves = turbulence_octaves(f, p.octaves);
+                out += format("    footprint %.4g pattern units: octaves kept while their period 2^-i >= 2 footprints: %.4g", f, octaves) +
+                       format(" (at most %.0f)\n", p.octaves);
+                const double t = turbulence(c, octaves, p.octaves, mean_abs(p));
+                out += format("    turbulence = sum of |noise(2^i p)| / 2^i = %.6g", t) +
+                       (octaves < p.octaves ? format(" (the octaves beyond %.4g by their mean, %.4g / 2^i)\n", octaves, mean_abs(p)) : "\n");
+                if (p.pattern == Pattern::turbulence)
+                    out += format("    blend t = min(turbulence, 1) = %.6g of color0 -> color1\n", std::clamp(t, 0.0, 1.0));
+                else
+                    out += format("    blend t = (1 + k sin(x + %.6g turbulence)) / 2 = %.6g of color0 -> color1", p.amplitude,
+                                  0.5 * (1.0 + sine_filter(f) * std::sin(c.x + p.amplitude * t))) +
+                           format(", k = %.4g (the sine's mean over the footprint)\n", sine_filter(f));
+                break;
+            }
         }
     }
     const Color4 value = procedural_value(p, coordinates, footprint);

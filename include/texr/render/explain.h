@@ -38,6 +38,9 @@ struct PixelExplanation {
     SpanMode span_mode = SpanMode::exact;
     bool uv_read_known = false;
     glm::dvec2 uv_read{0.0};
+    // Likewise the world position a solid procedural texture read (stepped along the span).
+    bool world_read_known = false;
+    glm::dvec3 world_read{0.0};
 };
 
 // The explanation as text for a person reading along with the lecture.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "texr/core/color.h"
 #include "texr/core/large_buffer.h"
@@ -60,6 +61,8 @@ struct Framebuffer {
     // Benchmark instrumentation, empty unless sized by the caller: the (u, v) each visible
     // pixel was textured with.
     std::vector<glm::dvec2> uv;
+    // The same for the world position a solid procedural texture read.
+    std::vector<glm::dvec3> world_read;
     // texr explain: the story of one pixel, when asked for (render/explain.h).
     std::shared_ptr<struct PixelExplanation> explanation;
 

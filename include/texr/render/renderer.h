@@ -23,7 +23,7 @@ struct RenderOptions {
     SpanMode span_mode = SpanMode::incremental;
     double span_tolerance = 1.0 / 64.0;
     bool count_coverage = false;  // fill Framebuffer::coverage (tests)
-    bool capture_uv = false;      // fill Framebuffer::uv with each visible pixel's (u, v) (benchmarks)
+    bool capture_uv = false;      // fill Framebuffer::uv with each visible pixel's (u, v) (benchmarks), and world_read
     int explain_x = -1, explain_y = -1;  // texr explain: record this pixel's story in Framebuffer::explanation
 };
 
