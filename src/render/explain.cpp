@@ -492,6 +492,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         texel = lookup(t, u, v, d, texels);
         out += "    the filter's value, linear RGBA: " + channels(texel) +
                format(" from %.0f texel read", double(texels)) + (texels == 1 ? "\n" : "s\n");
+        if (m.cutout > 0.0f)
+            out += format("    cutout: alpha %.5f is at least the threshold %.4g: drawn (below it, a hole)\n", texel.w, m.cutout);
     }
     double read_u = exact_u, read_v = exact_v;  // (what the span mode gave the lookups)
     if (e.uv_read_known) read_u = e.uv_read.x, read_v = e.uv_read.y;

@@ -227,7 +227,7 @@ template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if constexpr (!has_short_paths<N>) return TexturePath::general;
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
-    if (!d.texture) return TexturePath::general;  // (a bump map's (u, v) without a texture)
+    if (!d.texture || d.material.cutout > 0.0f) return TexturePath::general;  // (a bump map's (u, v) alone; an alpha test)
     const Texture& t = *d.texture;
     if (t.procedural || !takes_short_path(*t.image, t.sampler)) return TexturePath::general;
     constexpr bool footprint = (N & need_uv_derivatives) != 0;
@@ -609,7 +609,6 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         std::uint64_t shaded = 0, texels = 0;
         for (int x = span.x0; x < span.x1; ++x) {
             if (float(depth.value) < depth_row[x]) {
-                depth_row[x] = float(depth.value);
                 double inv_q = 1.0;
                 if constexpr (perspective)
                     if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
@@ -655,8 +654,13 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             texel = procedural_value(*solid, at, solid->pattern == Pattern::checker ? 0.0 : world_footprint(s, at, inv_q));
                         if (world_row) world_row[x] = at;
                     }
-                color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q);
-                ++shaded;
+                // A cutout material's texels below its alpha threshold are holes: the pixel keeps
+                // what is behind (its depth too). (The short paths never draw such a material.)
+                if (!general || d.material.cutout <= 0.0f || texel.w >= d.material.cutout) {
+                    depth_row[x] = float(depth.value);
+                    color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q);
+                    ++shaded;
+                }
             }
             depth.advance();
             if constexpr (perspective) q.advance();

@@ -43,11 +43,14 @@ std::string not_in_texr_yet(const std::string& word) {
         {"sphere_map", "sphere maps (texr's environment maps are latitude-longitude)"},
         {"lightmap", "light maps"}, {"light_map", "light maps"}, 
         {"normal_map", "normal mapping"}, {"normalmap", "normal mapping"}, {"displacement", "displacement mapping"},
-        {"displace", "displacement mapping"}, {"opacity", "opacity and billboards"}, {"alpha", "opacity and billboards"},
-        {"transparency", "opacity and billboards"}, {"alpha_test", "opacity and billboards"}, {"blend", "opacity and billboards"},
-        {"billboard", "opacity and billboards"}};
+        {"displace", "displacement mapping"}};
     std::string lower;
     for (const char ch : word) lower += (ch >= 'A' && ch <= 'Z') ? char(ch - 'A' + 'a') : ch;
+    // Opacity: texr's is an alpha test.
+    for (const char* alpha : {"opacity", "alpha", "transparency", "alpha_test", "blend"})
+        if (lower == alpha)
+            return "; " + shown_token(word) + ": texr's opacity is an alpha test, a material's 'cutout THRESHOLD' (blending is not in "
+                   "texr; docs/scene-format.md)";
     const auto it = parts.find(lower);
     if (it == parts.end()) return "";
     return "; " + shown_token(word) + " belongs to the lecture's " + it->second +
@@ -299,8 +302,10 @@ public:
         else if (name == "mesh") mesh(c);
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
+        else if (name == "billboard") billboard(c);
         else c.fail("unknown command " + shown_token(name) +
-                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle or quad)" +
+                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle, quad "
+                    "or billboard)" +
                     not_in_texr_yet(name));
         if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
@@ -551,8 +556,14 @@ private:
                 if (!(m.reflect >= 0.0 && m.reflect <= 1.0)) c.fail("the share reflected must be between 0 and 1");
                 if (scene_.environment < 0)
                     c.fail("material " + shown_name(m.name) + " reflects the environment: give the 'environment TEXTURE' line before it");
-            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump or reflect");
+            } else if (key == "cutout") {
+                const double threshold = c.number("the cutout's alpha threshold");
+                if (!(threshold > 0.0 && threshold <= 1.0)) c.fail("the cutout's alpha threshold must be above 0 and at most 1");
+                m.cutout = float(threshold);
+            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump, reflect or cutout");
         }
+        if (m.cutout > 0.0f && m.texture < 0)
+            c.fail_at(c.where("cutout"), "material " + shown_name(m.name) + " has no texture: 'cutout' tests its texture's alpha");
         if (m.bump >= 0 && m.lighting != Lighting::lambert)
             c.fail_at(c.where("bump"), "a bump map changes only the shading normal: material " + shown_name(m.name) +
                                            " needs 'lighting lambert' for it to show");
@@ -757,6 +768,78 @@ private:
         add_object(c, c.mark(), std::move(mesh), object, what);
     }
 
+    // The lecture's billboard: a textured quad that turns to face the viewer, `turn axis`
+    // (about the world's y axis: a tree stays upright) or `turn view` (towards the eye in
+    // full). It is made when the file is read to the end (finish), so that the camera line may
+    // come after it; its material is looked up now.
+    void billboard(Cursor& c) {
+        PendingBillboard b;
+        b.line = c.line_number();
+        std::size_t material_at = 0;
+        while (!c.done()) {
+            const std::string key = c.word("a billboard option");
+            c.once(key);
+            if (key == "material") b.material = material_named(c, c.word("a material name")), material_at = c.mark();
+            else if (key == "center") b.center = c.vec3("the billboard's centre");
+            else if (key == "size") {
+                b.width = c.number("the billboard's width"), b.height = c.number("the billboard's height");
+                if (!(b.width > 0.0 && b.height > 0.0 && b.width <= 1e18 && b.height <= 1e18))
+                    c.fail("the billboard's width and height must be above 0 (and at most 1e18)");
+            } else if (key == "turn") b.about_axis = choose<bool>(c, "billboard turn", {{"axis", true}, {"view", false}});
+            else c.unknown_option("billboard", key, "material, center, size or turn");
+        }
+        if (!c.seen("center") || !c.seen("size")) c.fail("billboard needs 'center x y z' and 'size W H'");
+        if (b.material < 0) b.material = default_material();
+        const Material& m = scene_.materials[std::size_t(b.material)];
+        if (m.bump >= 0) c.fail_at(material_at, "material " + shown_name(m.name) + " has a bump map: a billboard is flat, and turns");
+        pending_billboards_.push_back(b);
+    }
+
+public:
+    // Makes the billboards, facing the camera the whole file set up.
+    void finish() {
+        const Camera& camera = scene_.camera;
+        for (const PendingBillboard& b : pending_billboards_) {
+            const auto fail = [&](const std::string& message) { throw InputError(file_, b.line, message); };
+            glm::dvec3 to_eye = camera.eye - b.center, up(0.0, 1.0, 0.0);
+            if (b.about_axis) to_eye.y = 0.0;
+            const double distance = glm::length(to_eye);
+            if (!(distance > 0.0) || !std::isfinite(distance))
+                fail(b.about_axis ? "the eye is straight above or below the billboard (or at it): it cannot turn to face it about "
+                                    "the y axis (use 'turn view')"
+                                  : "the eye is at the billboard's centre: it has no side to face");
+            const glm::dvec3 f = to_eye / distance;
+            if (!b.about_axis) {
+                up = camera.up - glm::dot(camera.up, f) * f;  // the camera's up, square to the view
+                if (!(glm::length(up) > 0.0)) up = glm::dvec3(0.0, 1.0, 0.0) - f.y * f;
+                if (!(glm::length(up) > 0.0)) up = glm::dvec3(1.0, 0.0, 0.0) - f.x * f;
+                up = glm::normalize(up);
+            }
+            const glm::dvec3 right = glm::cross(up, f);  // the viewer's right, as f points at the viewer
+            const glm::dvec3 r = 0.5 * b.width * right, u = 0.5 * b.height * up;
+            Mesh mesh;
+            mesh.has_uv = true, mesh.has_normals = true;
+            const glm::dvec3 corners[4] = {b.center - r - u, b.center + r - u, b.center + r + u, b.center - r + u};
+            const glm::dvec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (int k = 0; k < 4; ++k) {
+                Vertex v;
+                v.position = glm::vec3(corners[k]);
+                if (!std::isfinite(v.position.x) || !std::isfinite(v.position.y) || !std::isfinite(v.position.z))
+                    fail("the billboard's corners are beyond a float's range");
+                v.normal = glm::vec3(f), v.uv = uvs[k];
+                mesh.vertices.push_back(v);
+            }
+            mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+            mesh.triangle_material.assign(2, b.material);
+            mesh.source = file_ + ":" + std::to_string(b.line);
+            Object object;
+            object.mesh = int(scene_.meshes.size());
+            scene_.meshes.push_back(std::move(mesh));
+            scene_.objects.push_back(object);
+        }
+    }
+
+private:
     // `at`: the token errors are reported at (a mesh's `material` option, or else its file name;
     // a polygon's last word).
     void add_object(Cursor& c, std::size_t at, Mesh mesh, Object object, const std::string& what) {
@@ -815,6 +898,13 @@ private:
     std::map<std::string, int> texture_index_, material_index_;
     std::map<std::string, int> defined_on_;  // "texture 't'" / "material 'm'": the line that defined it
     std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
+    struct PendingBillboard {
+        int line = 0, material = -1;
+        glm::dvec3 center{0.0};
+        double width = 1.0, height = 1.0;
+        bool about_axis = true;
+    };
+    std::vector<PendingBillboard> pending_billboards_;
     std::map<std::string, int> material_from_obj_;  // materials an OBJ's usemtl made: the line of the mesh's file name
     std::map<std::string, std::shared_ptr<const Image>> images_;
     using MipKey = std::tuple<const Image*, bool, Wrap, Wrap, std::array<float, 4>>;
@@ -833,7 +923,8 @@ Scene parse_scene(std::istream& in, const std::string& path) {
     scene.files.push_back(path);
     Parser parser(scene, path);
     for (const Line& line : read_lines(in, path)) parser.command(line);
-    if (scene.objects.empty()) throw InputError(path, 0, "scene has no objects (add a mesh, triangle or quad line)");
+    parser.finish();
+    if (scene.objects.empty()) throw InputError(path, 0, "scene has no objects (add a mesh, triangle, quad or billboard line)");
     return scene;
 }
 

@@ -54,6 +54,9 @@ struct Material {
     // Reflection mapping (texture/environment.h): this share of the colour is the scene's
     // environment map along the reflected view ray, the rest the material's own shading.
     double reflect = 0.0;
+    // Opacity as an alpha test: where the texture's alpha is below this, the surface is a hole
+    // (the lecture's billboards "often with opacity texture"); 0: opaque everywhere.
+    float cutout = 0.0f;
 };
 
 struct Light {
