@@ -213,7 +213,7 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
         CHECK(r.exit_code == 0);
     }
     expect_failure("not-a-number", "size 32 abc\n" + good_scene, "scene.txt:1: expected the height, found 'abc'");
-    expect_failure("unknown-command", "size 32 24\nsphere 1 2 3\n", "scene.txt:2: unknown command 'sphere'");
+    expect_failure("unknown-command", "size 32 24\nspheroid 1 2 3\n", "scene.txt:2: unknown command 'spheroid'");
     expect_failure("unknown-option", good_scene + "material m colour 1 0 0\n", "scene.txt:5: unknown material option 'colour'");
     // A number where an option was expected: one too many for the option before it.
     expect_failure("six-number-vertex", good_scene + "triangle v -1 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0 1\n",
@@ -3094,8 +3094,9 @@ TEST_CASE("of two surfaces at the same depth the one written first shows, on any
 TEST_CASE("a lecture word texr does not have yet is named as such, and a line cut short says so") {
     const std::string note = ", which texr does not have yet (docs/lecture-guide.md, \"Not in texr yet\")\n";
     for (const auto& [line, message] : std::vector<std::pair<std::string, std::string>>{
-             {"sphere 0 0 0 1", "unknown command 'sphere' (expected size, camera, background, ambient, environment, texture, material, "
-                                "light, mesh, triangle, quad or billboard); 'sphere' belongs to the lecture's parametric surfaces" + note},
+             {"cone 0 0 0 1", "unknown command 'cone' (expected size, camera, background, ambient, environment, texture, material, "
+                              "light, mesh, triangle, quad, billboard, sphere, cylinder or disc); 'cone' belongs to the lecture's "
+                              "parametric surfaces (texr's: sphere, cylinder and disc)" + note},
              {"material m color 1 1 1 Opacity 0.5",
               "unknown material option 'Opacity' (expected color, texture, lighting, vertex_colors, bump, reflect or cutout); 'Opacity': texr's "
               "opacity is an alpha test, a material's 'cutout THRESHOLD' (blending is not in texr; docs/scene-format.md)\n"},
@@ -3111,7 +3112,7 @@ TEST_CASE("a lecture word texr does not have yet is named as such, and a line cu
              // Other words: no such note.
              {"material m shiny 1", "unknown material option 'shiny' (expected color, texture, lighting, vertex_colors, bump, reflect or cutout)\n"},
              {"cone2 1", "unknown command 'cone2' (expected size, camera, background, ambient, environment, texture, material, "
-                         "light, mesh, triangle, quad or billboard)\n"},
+                         "light, mesh, triangle, quad, billboard, sphere, cylinder or disc)\n"},
              // A line cut short: what was expected, and that the line ended.
              {"triangle v 0 0 0 0 0 v 1 0 0 1 0 v 0 1 0 0.5 1 translate 1 2",
               "expected 3 numbers for translate after '2', found the end of the line\n"},

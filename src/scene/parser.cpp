@@ -33,8 +33,9 @@ namespace {
 // that it does not read as a typo. Empty for any other word.
 std::string not_in_texr_yet(const std::string& word) {
     static const std::map<std::string, const char*> parts = {
-        {"sphere", "parametric surfaces"}, {"cylinder", "parametric surfaces"}, {"disc", "parametric surfaces"},
-        {"disk", "parametric surfaces"}, {"torus", "parametric surfaces"}, {"cone", "parametric surfaces"},
+        {"disk", "parametric surfaces (texr's: sphere, cylinder and disc)"},
+        {"torus", "parametric surfaces (texr's: sphere, cylinder and disc)"},
+        {"cone", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"wood", "wood pattern (solid noise)"}, {"granite", "granite pattern (solid noise)"},
         {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"projective", "projective texture mapping"},
         {"projector", "projective texture mapping"}, {"spherical", "two-stage texture mapping"},
@@ -303,9 +304,10 @@ public:
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
         else if (name == "billboard") billboard(c);
+        else if (name == "sphere" || name == "cylinder" || name == "disc") parametric(c, name);
         else c.fail("unknown command " + shown_token(name) +
-                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle, quad "
-                    "or billboard)" +
+                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle, quad, "
+                    "billboard, sphere, cylinder or disc)" +
                     not_in_texr_yet(name));
         if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
@@ -766,6 +768,85 @@ private:
         if (!any_normal) fill_smooth_normals(mesh);
         else replace_zero_normals(mesh);
         add_object(c, c.mark(), std::move(mesh), object, what);
+    }
+
+    // The lecture's parametric surfaces, with their (u, v) "directly derived from surface
+    // parameterization", in the object's own space (z the axis; place them with the object
+    // options):
+    //   disc      p(u, v) = Polar2Cartesian(R v, 2 pi u)                = (R v cos 2 pi u, R v sin 2 pi u, 0)
+    //   cylinder  p(u, v) = Cylindrical2Cartesian(r, 2 pi u, H v)       = (r cos 2 pi u, r sin 2 pi u, H v)
+    //   sphere    p(u, v) = Spherical2Cartesian(r, pi v, 2 pi u)        = r (sin pi v cos 2 pi u, sin pi v sin 2 pi u, cos pi v)
+    // meshed on a grid of `segments` steps of u and (sphere) half as many of v (disc: a quarter;
+    // cylinder: one), each vertex at its exact p(u, v) with its exact (u, v) and normal; the
+    // seam at u = 1 has vertices of its own. Triangles wind counter-clockwise seen from the
+    // side the normal points to (outside; the disc's +z side); those of no area (at a pole, at
+    // the disc's centre) are left out.
+    void parametric(Cursor& c, const std::string& kind) {
+        constexpr double pi = 3.14159265358979323846;
+        const double radius = c.number("the " + kind + "'s radius");
+        const double height = kind == "cylinder" ? c.number("the cylinder's height") : 0.0;
+        if (!(radius > 0.0 && radius <= 1e18)) c.fail("the " + kind + "'s radius must be above 0 and at most 1e18");
+        if (kind == "cylinder" && !(height > 0.0 && height <= 1e18)) c.fail("the cylinder's height must be above 0 and at most 1e18");
+        Object object;
+        int material = -1;
+        std::size_t material_at = 0;
+        int segments = 64;
+        while (!c.done()) {
+            const std::string key = c.word("a " + kind + " option");
+            if (key == "segments") {
+                c.once(key);
+                const double n = c.number("the number of segments");
+                if (!(n >= 8.0 && n <= 4096.0 && n == std::floor(n))) c.fail("segments must be a whole number from 8 to 4096");
+                segments = int(n);
+            } else if (!object_option(c, key, object, material, material_at)) {
+                c.unknown_option(kind, key, "segments, material, cull, translate, rotate or scale");
+            }
+        }
+        const int nu = segments, nv = kind == "sphere" ? segments / 2 : kind == "disc" ? segments / 4 : 1;
+        const auto at = [&](double u, double v, glm::dvec3& normal) {
+            const double phi = 2.0 * pi * u;
+            if (kind == "disc") {
+                normal = {0.0, 0.0, 1.0};
+                return glm::dvec3(radius * v * std::cos(phi), radius * v * std::sin(phi), 0.0);
+            }
+            if (kind == "cylinder") {
+                normal = {std::cos(phi), std::sin(phi), 0.0};
+                return glm::dvec3(radius * std::cos(phi), radius * std::sin(phi), height * v);
+            }
+            // (at the poles exactly: sin(pi) is 1.2e-16, not 0)
+            const double sin_theta = v == 1.0 ? 0.0 : std::sin(pi * v), cos_theta = v == 1.0 ? -1.0 : std::cos(pi * v);
+            normal = {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+            return radius * normal;
+        };
+        Mesh mesh;
+        mesh.has_uv = true, mesh.has_normals = true;
+        for (int j = 0; j <= nv; ++j)
+            for (int i = 0; i <= nu; ++i) {
+                Vertex vertex;
+                const double u = double(i) / nu, v = double(j) / nv;
+                glm::dvec3 normal;
+                const glm::dvec3 p = at(u, v, normal);
+                vertex.position = glm::vec3(p), vertex.normal = glm::vec3(normal), vertex.uv = {u, v};
+                mesh.vertices.push_back(vertex);
+            }
+        const auto index = [&](int i, int j) { return std::uint32_t(j * (nu + 1) + i); };
+        const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
+            const glm::dvec3 pa(mesh.vertices[a].position), pb(mesh.vertices[b].position), pd(mesh.vertices[d].position);
+            const glm::dvec3 area = glm::cross(pb - pa, pd - pa);
+            // (two corners at one point: a pole, the disc's centre)
+            if (!(glm::length(area) > 1e-12 * glm::dot(pb - pa, pb - pa) + 1e-12 * glm::dot(pd - pa, pd - pa))) return;
+            const glm::dvec3 normal(mesh.vertices[a].normal + mesh.vertices[b].normal + mesh.vertices[d].normal);
+            if (glm::dot(area, normal) < 0.0) std::swap(b, d);
+            mesh.triangles.push_back({a, b, d});
+        };
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                add(index(i, j), index(i + 1, j), index(i + 1, j + 1));
+                add(index(i, j), index(i + 1, j + 1), index(i, j + 1));
+            }
+        mesh.triangle_material.assign(mesh.triangles.size(), material >= 0 ? material : default_material());
+        mesh.source = file_ + ":" + std::to_string(c.line_number());
+        add_object(c, c.mark(), std::move(mesh), object, kind);
     }
 
     // The lecture's billboard: a textured quad that turns to face the viewer, `turn axis`
