@@ -84,6 +84,24 @@ inline std::string read_file(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// The pixels of a binary PPM texr wrote (RGB, rows from the top), checked to be w x h.
+inline std::string ppm_pixels(const std::string& path, int w, int h) {
+    const std::string ppm = read_file(path);
+    const std::string header = "P6\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
+    if (ppm.size() != header.size() + std::size_t(w) * std::size_t(h) * 3 || ppm.compare(0, header.size(), header) != 0)
+        return std::string();  // (the caller's size check fails)
+    return ppm.substr(header.size());
+}
+
+// The sRGB bytes texr explain says it wrote ("in the frame file as sRGB bytes (r, g, b)"),
+// or -1s where the output has none.
+inline std::array<int, 3> explained_bytes(const std::string& output) {
+    std::array<int, 3> rgb{-1, -1, -1};
+    const std::size_t at = output.rfind("in the frame file as sRGB bytes (");
+    if (at != std::string::npos) std::sscanf(output.c_str() + at, "in the frame file as sRGB bytes (%d, %d, %d)", &rgb[0], &rgb[1], &rgb[2]);
+    return rgb;
+}
+
 inline std::string source_path(const std::string& relative) { return std::string(TEXR_SOURCE_DIR) + "/" + relative; }
 
 // An HDR image of w x h texels (row 0 first) whose four channels are each texel's value.

@@ -19,12 +19,6 @@ using namespace texr::testing;
 
 namespace {
 
-std::string ppm_pixels(const std::string& path, int w, int h) {
-    const std::string ppm = read_file(path);
-    const std::string header = "P6\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
-    REQUIRE(ppm.size() == header.size() + std::size_t(w) * std::size_t(h) * 3);
-    return ppm.substr(header.size());
-}
 
 // A 2x1 RGBA PNG: the left texel green with alpha `left_alpha`, the right one blue, opaque.
 void write_two_texels(const std::string& path, unsigned char left_alpha) {

@@ -127,8 +127,9 @@ TEST_CASE("a bump ramp tilts a square's normal by its slope: every pixel's shade
                                  "material m color 1 1 1 lighting lambert bump ramp 0.255\n" + square + "\n");
     const RunResult r = run_texr("explain " + dir + "/e.scene 32 32");
     CAPTURE(r.output);
-    CHECK(r.output.find("      B_u = (B(u + h, v) - B(u - h, v)) / 2h = 0.256 (h = 0.0625), B_v = 0 (h = 0.0625)\n") != std::string::npos);
-    CHECK(r.output.find("      the triangle's O_u = (1, 0, 0), O_v = (0, 1, 0); |O_u x O_v| = 1\n") != std::string::npos);
+    CHECK(r.output.find("      B_u = (B(u + h, v) - B(u - h, v)) / 2h = 0.256 (h = 0.0625), B_v = 0 (h = 0.0625) (h: a texel, or the "
+                        "pixel's footprint where wider)\n") != std::string::npos);
+    CHECK(r.output.find("      the triangle's O_u = (1, 0, 0), O_v = (0, 1, 0); |O_u x O_v| = 1 (along N: s = 1)\n") != std::string::npos);
     CHECK(r.output.find(", normalised: (-0.24800, 0.00000, 0.96876)\n") != std::string::npos);  // (-0.256, 0, 1) / 1.03225
 }
 
@@ -137,7 +138,7 @@ TEST_CASE("bump maps in scene files: lighting, solid textures, meshes without UV
     const std::string head = "size 32 24\ncamera eye 0 0 3 target 0 0 0\nlight directional 0 0 -1\ntexture n procedural noise scale 4\n";
     const std::string triangle = "triangle material m v -1 -1 0 0 0 v 1 -1 0 1 0 v 0 1 0 0.5 1\n";
     for (const auto& [line, message] : std::vector<std::pair<std::string, std::string>>{
-             {"material m bump n 0.1", "a bump map changes only the shading normal: material 'm' needs 'lighting lambert' for it to show"},
+             {"material m bump n 0.1", "a bump map changes only the shading normal: material 'm' needs 'lighting lambert' or 'reflect' for it to show"},
              {"material m lighting lambert bump nope 0.1", "unknown texture 'nope' (define it with a 'texture' line first)"},
              {"material m lighting lambert bump n x",
               "expected the bump's height (world units for a texture value of 1), found 'x'"},
@@ -161,6 +162,17 @@ TEST_CASE("bump maps in scene files: lighting, solid textures, meshes without UV
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("has faces without texture coordinates (vt) drawn with material 'm', which uses texture 'n' as its bump map") !=
           std::string::npos);
+    // A bump map is read at the scene's (u, v), whatever the material's own texture and its wrap
+    // (the setup moves a triangle's (u, v) by whole periods of that texture's wrap): on UVs
+    // from 1 to 2, with and without a white texture of wrap repeat, the same picture.
+    write_text(dir + "/white.ppm", std::string("P6\n1 1\n255\n\xff\xff\xff", 14));
+    const std::string quads = "quad material m v -1 -1 0 1 1 v 0 -1 0 2 1 v 0 1 0 2 2 v -1 1 0 1 2\n"
+                              "quad material m v 0 -1 0 2 1 v 1 -1 0 3 1 v 1 1 0 3 2 v 0 1 0 2 2\n";
+    write_text(dir + "/plain.scene", head + "material m lighting lambert bump n 0.05\n" + quads);
+    write_text(dir + "/white.scene", head + "texture w file white.ppm wrap repeat\nmaterial m texture w lighting lambert bump n 0.05\n" + quads);
+    REQUIRE(run_texr("render " + dir + "/plain.scene -o " + dir + "/plain.ppm").exit_code == 0);
+    REQUIRE(run_texr("render " + dir + "/white.scene -o " + dir + "/textured.ppm").exit_code == 0);
+    CHECK(read_file(dir + "/plain.ppm") == read_file(dir + "/textured.ppm"));
     // A bump map on a material with no texture of its own, on 1 and 3 threads and every span
     // mode: drawn, and the same bytes for every thread count.
     write_text(dir + "/ok.scene", head + "material m lighting lambert bump n 0.05\n" + triangle);
@@ -171,5 +183,5 @@ TEST_CASE("bump maps in scene files: lighting, solid textures, meshes without UV
         CHECK(read_file(dir + "/a.ppm") == read_file(dir + "/b.ppm"));
     }
     r = run_texr("render " + dir + "/ok.scene -o " + dir + "/a.ppm --stats");
-    CHECK(r.output.find(" needs uv, normal, world position; skips uv derivatives, vertex colour\n") != std::string::npos);
+    CHECK(r.output.find(" needs uv, uv derivatives, normal, world position; skips vertex colour\n") != std::string::npos);
 }

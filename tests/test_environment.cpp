@@ -51,12 +51,6 @@ int pixel_colour(const std::string& pixels, int width, int x, int y) {
     return k;
 }
 
-std::string ppm_pixels(const std::string& path, int w, int h) {
-    const std::string ppm = read_file(path);
-    const std::string header = "P6\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
-    REQUIRE(ppm.size() == header.size() + std::size_t(w) * std::size_t(h) * 3);
-    return ppm.substr(header.size());
-}
 
 }  // namespace
 
@@ -172,4 +166,72 @@ TEST_CASE("environment and reflect in scene files: order, ranges, and what a ref
     const RunResult r = run_texr("render " + dir + "/ok.scene -o " + dir + "/ok.ppm --stats");
     CHECK(r.exit_code == 0);
     CHECK(r.output.find(" needs normal, world position; skips uv, uv derivatives, vertex colour\n") != std::string::npos);
+}
+
+TEST_CASE("a partial reflection blends the lit colour with the map, a solid procedural map is read by direction, and bumps bend reflections") {
+    const std::string dir = scratch_folder("environment-blend");
+    write_text(dir + "/map.ppm", eight_colour_map());
+    const std::string map = "texture sky file map.ppm filter nearest wrap_u repeat wrap_v clamp\nenvironment sky\n";
+    // The full mirror of the test above at reflect 0.3, its own colour sRGB (0.8, 0.5, 0.2),
+    // unlit: each channel (1 - 0.3) c + 0.3 m, with m the map's 0 or 1.
+    write_text(dir + "/m.scene", "size 64 64\ncamera eye 0 0 0.5 target 0 0 0 fov 90\n" + map +
+                                     "material m color 0.8 0.5 0.2 reflect 0.3\n"
+                                     "quad material m v -0.5 -0.5 0 0 0 v 0.5 -0.5 0 1 0 v 0.5 0.5 0 1 1 v -0.5 0.5 0 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/m.scene -o " + dir + "/m.ppm").exit_code == 0);
+    std::string pixels = ppm_pixels(dir + "/m.ppm", 64, 64);
+    const auto linear = [](double s) { return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4); };
+    const auto encoded = [](double l) { return int(std::lround(255.0 * (l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055))); };
+    const double own[3] = {linear(0.8), linear(0.5), linear(0.2)};
+    int checked = 0, off = 0;
+    for (int y = 0; y < 64; y += 3)
+        for (int x = 0; x < 64; x += 3) {
+            const glm::dvec3 view((x + 0.5) / 64 - 0.5, 0.5 - (y + 0.5) / 64, -0.5);
+            const int k = map_colour({view.x, view.y, -view.z});
+            if (k < 0) continue;
+            ++checked;
+            for (int bit = 0; bit < 3; ++bit) {
+                const int want = encoded(0.7 * own[bit] + 0.3 * ((k >> bit) & 1));
+                off += std::abs(int(std::uint8_t(pixels[3 * std::size_t(y * 64 + x) + std::size_t(bit)])) - want) > 1;
+            }
+        }
+    CHECK(checked > 300);
+    CHECK(off == 0);
+    // A solid procedural map is read at the unit direction: a solid checkerboard of scale 2,
+    // (floor 2x + floor 2y + floor 2z) mod 2 of the unit ray, white where odd.
+    Camera camera;
+    camera.eye = {0, 0, 0}, camera.target = {0.3, 0.2, -1}, camera.fov_y_degrees = 120;
+    write_text(dir + "/s.scene", "size 48 48\ncamera eye 0 0 0 target 0.3 0.2 -1 fov 120\n"
+                                 "texture sky procedural checker scale 2 solid on color0 0 0 0 color1 1 1 1\nenvironment sky\n"
+                                 "material m\ntriangle material m v 50 0 0 0 0 v 50 1 0 1 0 v 50 0 1 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/s.ppm").exit_code == 0);
+    pixels = ppm_pixels(dir + "/s.ppm", 48, 48);
+    checked = 0, off = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const glm::dvec3 d = glm::normalize(pixel_ray(camera, 48, 48, x, y)) * 2.0;
+            if (std::fabs(d.x - std::round(d.x)) < 1e-3 || std::fabs(d.y - std::round(d.y)) < 1e-3 || std::fabs(d.z - std::round(d.z)) < 1e-3)
+                continue;
+            const int odd = int(std::fabs(std::fmod(std::floor(d.x) + std::floor(d.y) + std::floor(d.z), 2.0)));
+            ++checked;
+            off += std::uint8_t(pixels[3 * std::size_t(y * 48 + x)]) != (odd ? 255 : 0);
+        }
+    CHECK(checked > 2000);
+    CHECK(off == 0);
+    // A bump-mapped mirror reflects along the bumped normal: its frame differs from the flat
+    // mirror's, and explain's bytes are the frame's.
+    write_text(dir + "/b.scene", "size 64 64\ncamera eye 0 0 0.5 target 0 0 0 fov 90\n" + map +
+                                     "texture n procedural noise scale 3\nmaterial m color 0 0 0 reflect 1 bump n 0.2\n"
+                                     "quad material m v -0.5 -0.5 0 0 0 v 0.5 -0.5 0 1 0 v 0.5 0.5 0 1 1 v -0.5 0.5 0 0 1\n");
+    write_text(dir + "/f.scene", "size 64 64\ncamera eye 0 0 0.5 target 0 0 0 fov 90\n" + map +
+                                     "material m color 0 0 0 reflect 1\n"
+                                     "quad material m v -0.5 -0.5 0 0 0 v 0.5 -0.5 0 1 0 v 0.5 0.5 0 1 1 v -0.5 0.5 0 0 1\n");
+    REQUIRE(run_texr("render " + dir + "/b.scene -o " + dir + "/b.ppm").exit_code == 0);
+    REQUIRE(run_texr("render " + dir + "/f.scene -o " + dir + "/f.ppm").exit_code == 0);
+    CHECK(read_file(dir + "/b.ppm") != read_file(dir + "/f.ppm"));
+    pixels = ppm_pixels(dir + "/b.ppm", 64, 64);
+    for (const auto& [x, y] : {std::pair{10, 10}, std::pair{31, 40}, std::pair{50, 20}, std::pair{60, 60}}) {
+        const RunResult r = run_texr("explain " + dir + "/b.scene " + std::to_string(x) + " " + std::to_string(y));
+        const std::array<int, 3> rgb = explained_bytes(r.output);
+        for (int k = 0; k < 3; ++k) CHECK(rgb[k] == int(std::uint8_t(pixels[3 * std::size_t(y * 64 + x) + std::size_t(k)])));
+    }
 }

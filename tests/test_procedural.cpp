@@ -42,15 +42,6 @@ struct Sequence {
     }
 };
 
-// The PPM bytes of a frame texr wrote ("P6\nW H\n255\n" and then the pixels).
-std::string ppm_pixels(const std::string& path, int w, int h) {
-    const std::string ppm = read_file(path);
-    const std::string header = "P6\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
-    REQUIRE(ppm.size() == header.size() + std::size_t(w) * std::size_t(h) * 3);
-    REQUIRE(ppm.compare(0, header.size(), header) == 0);
-    return ppm.substr(header.size());
-}
-
 }  // namespace
 
 TEST_CASE("checker, tile and brick give the lecture's colours at hand-worked points") {
@@ -406,10 +397,7 @@ TEST_CASE("a solid checkerboard on a floor lying on a cell boundary is one cell 
         for (int x = 1; x < 80; x += 6) {
             const RunResult r = run_texr("explain " + dir + "/all.scene " + std::to_string(x) + " " + std::to_string(y));
             REQUIRE(r.exit_code == 0);
-            const std::size_t at = r.output.rfind("in the frame file as sRGB bytes (");
-            REQUIRE(at != std::string::npos);
-            int rgb[3];
-            REQUIRE(std::sscanf(r.output.c_str() + at, "in the frame file as sRGB bytes (%d, %d, %d)", &rgb[0], &rgb[1], &rgb[2]) == 3);
+            const std::array<int, 3> rgb = explained_bytes(r.output);
             CAPTURE(x);
             CAPTURE(y);
             for (int k = 0; k < 3; ++k) CHECK(rgb[k] == int(std::uint8_t(all[3 * std::size_t(y * 80 + x) + std::size_t(k)])));

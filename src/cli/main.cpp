@@ -328,7 +328,8 @@ void print_stats(const texr::Scene& scene, const texr::RenderStats& s, double lo
     // (the mean over the frames: with --repeat, the first frame's building of mip levels and
     // copies is part of it, as the median frame time printed above is not)
     if (frames > 1) std::printf("stage times        the mean over %d frames, the first included\n", frames);
-    std::printf("time clear         %.3f ms\n", 1000.0 * s.seconds_clear / frames);
+    std::printf("time clear         %.3f ms%s\n", 1000.0 * s.seconds_clear / frames,
+                scene.environment >= 0 ? "  (the environment map's background included)" : "");
     std::printf("time vertex        %.3f ms\n", 1000.0 * s.seconds_vertex / frames);
     std::printf("time raster        %.3f ms  (clip, setup, spans, shading)\n", 1000.0 * s.seconds_raster / frames);
     std::printf("time write         %.3f ms\n", write_ms);

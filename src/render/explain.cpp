@@ -200,6 +200,13 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
                       (m.texture >= 0 ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
     Color c = m.color;
     out += "    material colour " + rgb(m.color) + "\n";
+    // A bump map's slopes, read at the scene's (u, v) (the setup's shift added back, as the
+    // span walk reads it), with a step of at least the pixel's footprint.
+    const auto bump_at = [&](std::uint64_t& texels) {
+        const UVDerivatives d = uv_derivatives(e.h, u, v, q);
+        const double footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+        return bump_slope(scene.textures[std::size_t(m.bump)], m.bump_height, u + e.uv_shift.x, v + e.uv_shift.y, footprint, texels);
+    };
     if (m.texture >= 0) c *= Color(texel), out += "    x texture       " + rgb(Color(texel)) + "\n";
     if (needs & need_color) {
         const Color vertex(over_q(e.vertex_color));
@@ -215,20 +222,23 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
             if (m.bump >= 0) {
                 const Texture& t = scene.textures[std::size_t(m.bump)];
                 std::uint64_t texels = 0;
-                const BumpSlope slope = bump_slope(t, m.bump_height, u, v, texels);
+                const BumpSlope slope = bump_at(texels);
                 const SurfaceTangents& o = e.tangents;
                 const glm::dvec3 area = glm::cross(o.o_u, o.o_v);
-                out += "    bump map " + shown_name(t.name) + format(": B(u, v) = %.6g x the texture's first channel = %.6g\n",
-                                                                  m.bump_height, bump_height_at(t, m.bump_height, u, v, texels));
-                out += format("      B_u = (B(u + h, v) - B(u - h, v)) / 2h = %.6g (h = %.4g), B_v = %.6g (h = %.4g)\n", slope.b_u,
-                              slope.step_u, slope.b_v, slope.step_v);
+                out += "    bump map " + shown_name(t.name) +
+                       format(": B(u, v) = %.6g x the texture's first channel = %.6g\n", m.bump_height,
+                              bump_height_at(t, m.bump_height, u + e.uv_shift.x, v + e.uv_shift.y, texels));
+                out += format("      B_u = (B(u + h, v) - B(u - h, v)) / 2h = %.6g (h = %.4g), B_v = %.6g (h = %.4g)", slope.b_u,
+                              slope.step_u, slope.b_v, slope.step_v) +
+                       " (h: a texel, or the pixel's footprint where wider)\n";
                 out += format("      the triangle's O_u = (%.5g, %.5g, %.5g), ", o.o_u.x, o.o_u.y, o.o_u.z) +
                        format("O_v = (%.5g, %.5g, %.5g); |O_u x O_v| = %.5g", o.o_v.x, o.o_v.y, o.o_v.z, glm::length(area)) +
-                       (glm::dot(area, n) < 0.0 ? " (against N: s = -1)\n" : "\n");
+                       (glm::dot(area, n) < 0.0 ? " (against N: s = -1)\n" : " (along N: s = 1)\n");
                 const glm::dvec3 d = slope.b_u * glm::cross(n, o.o_v) - slope.b_v * glm::cross(n, o.o_u);
                 out += format("      D = B_u (N x O_v) - B_v (N x O_u) = (%.5g, %.5g, %.5g); ", d.x + 0.0, d.y + 0.0, d.z + 0.0);
                 n = unit_direction(bumped_normal(n, o, slope));
                 out += format("N' = N + s D / |O_u x O_v|, normalised: (%.5f, %.5f, %.5f)\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+                out += "      (N below is N')\n";
             }
             for (std::size_t k = 0; k < scene.lights.size(); ++k) {
                 const Light& light = scene.lights[k];
@@ -252,7 +262,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
         glm::dvec3 n = unit_direction(over_q(e.normal));
         if (m.bump >= 0) {
             std::uint64_t texels = 0;
-            n = unit_direction(bumped_normal(n, e.tangents, bump_slope(scene.textures[std::size_t(m.bump)], m.bump_height, u, v, texels)));
+            n = unit_direction(bumped_normal(n, e.tangents, bump_at(texels)));
         }
         const glm::dvec3 view = unit_direction(over_q(e.world) - scene.camera.eye);
         const glm::dvec3 r = reflect_direction(view, n);

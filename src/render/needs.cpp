@@ -25,9 +25,11 @@ Needs needs_of(const Material& material, const Scene& scene) {
     if (material.vertex_colors) needs |= need_color;
     // A reflection: the view ray from the eye to the surface point, and the normal.
     if (material.reflect > 0.0 && scene.environment >= 0) needs |= need_normal | need_world_position;
-    // A bump map: (u, v) to read it, the normal it changes, and the corners' world positions,
-    // which give the triangle's tangents O_u and O_v (setup_stage.h).
-    if (material.bump >= 0 && material.lighting == Lighting::lambert) needs |= need_uv | need_normal | need_world_position;
+    // A bump map: (u, v) to read it and their derivatives (its step is at least the pixel's
+    // footprint), the normal it changes, and the corners' world positions, which give the
+    // triangle's tangents O_u and O_v (setup_stage.h). It shows in lighting and reflections.
+    if (material.bump >= 0 && (material.lighting == Lighting::lambert || (material.reflect > 0.0 && scene.environment >= 0)))
+        needs |= need_uv | need_uv_derivatives | need_normal | need_world_position;
     if (material.lighting == Lighting::lambert && !scene.lights.empty()) {
         needs |= need_normal;
         for (const Light& light : scene.lights)

@@ -507,16 +507,17 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
     const auto start = Clock::now();
     auto work = [&](int w) {
         const RowSet rows{w, workers};
+        std::uint64_t background_texels = 0;  // an environment map's, read for the background
         for (int y = rows.first_owned(0); y < height; y = rows.next_owned(y + RowSet::band_rows - 1)) {
             const int last = std::min(height, y + RowSet::band_rows);
             fb.clear_rows(y, last, scene.background);
             // An environment map is the background: each pixel sees it along its own ray.
             if (scene.environment >= 0) {
                 const Texture& map = scene.textures[std::size_t(scene.environment)];
-                std::uint64_t texels = 0;
                 for (int row = y; row < last; ++row)
                     for (int x = 0; x < width; ++x)
-                        fb.color[fb.index(x, row)] = Color(environment_value(map, pixel_ray(scene.camera, width, height, x, row), texels));
+                        fb.color[fb.index(x, row)] =
+                            Color(environment_value(map, pixel_ray(scene.camera, width, height, x, row), background_texels));
             }
         }
         if (w == 0) clear_seconds = seconds_since(start);
@@ -529,6 +530,7 @@ void render(const Scene& scene, const RenderOptions& options, RenderStats& stats
         barrier.wait();
         if (w == 0) vertex_seconds = seconds_since(start);
         WorkerSlot& slot = slots[std::size_t(w)];
+        slot.counts.texels_fetched += background_texels;
         SetupStage setup(scene, needs, options, fb, band, slot.counts);
         RasterStage raster(scene, needs, options, fb, slot.counts);
         std::size_t chunk = 0;

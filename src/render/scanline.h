@@ -101,9 +101,10 @@ struct TriangleSetup {
 };
 
 // `ldr_texel`: the texel is an 8-bit texture's, each channel in [0, 1] (the short paths).
+// `texels` (where given) grows by the environment map's texels a reflection reads.
 template <Needs N, bool ldr_texel = false>
 Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal, const glm::dvec3& color,
-            const glm::dvec3& world) {
+            const glm::dvec3& world, std::uint64_t* texels = nullptr) {
     Color c = d.material.color;
     // (a solid texture's texel comes with the world position, without (u, v); 1 where no texture)
     if constexpr ((N & (need_uv | need_world_position)) != 0) c *= Color(texel);
@@ -127,11 +128,12 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
         if (d.material.reflect > 0.0 && d.scene.environment >= 0) {
             const glm::dvec3 view = unit_direction(world - d.scene.camera.eye);
             const glm::dvec3 r = reflect_direction(view, unit_direction(normal));
-            std::uint64_t texels = 0;
-            const Color mirrored(environment_value(d.scene.textures[std::size_t(d.scene.environment)], r, texels));
+            std::uint64_t read = 0;
+            const Color mirrored(environment_value(d.scene.textures[std::size_t(d.scene.environment)], r, read));
+            if (texels) *texels += read;
             c = float(1.0 - d.material.reflect) * c + float(d.material.reflect) * mirrored;
         }
-    (void)texel, (void)normal, (void)color, (void)world;
+    (void)texel, (void)normal, (void)color, (void)world, (void)texels;
     // An infinite texel (a float HDR texel times a bright material) times no light is NaN;
     // such a pixel is written as 0, the limit of its light, not as NaN. An 8-bit texel
     // cannot make one where shading_stays_finite, and the test is skipped there (it was
@@ -617,15 +619,18 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                 if constexpr ((N & need_uv) != 0) {
                     const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
                     const double v = stepped_uv ? v_prime.value * inv_q : d.v_scratch[x - x0];
-                    if constexpr (general && (N & need_normal) != 0)
-                        if (d.material.bump >= 0) {  // (the walk's general path: bump maps need world positions)
-                            const Texture& bump = d.scene.textures[std::size_t(d.material.bump)];
-                            const BumpSlope slope = bump_slope(bump, d.material.bump_height, u, v, texels);
-                            pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
-                        }
                     UVDerivatives derivatives{0.0, 0.0, 0.0, 0.0};
                     if constexpr ((N & need_uv_derivatives) != 0)  // 1/q is at hand: no second divide
                         derivatives = uv_derivatives_from_inverse_q(s.h, u, v, inv_q);
+                    if constexpr (general && (N & need_normal) != 0)
+                        if (d.material.bump >= 0) {  // (the walk's general path: bump maps need world positions)
+                            // Read at the scene's (u, v): the setup moved them by whole periods of
+                            // the colour texture's wrap mode, which need not be the bump map's.
+                            const Texture& bump = d.scene.textures[std::size_t(d.material.bump)];
+                            const BumpSlope slope = bump_slope(bump, d.material.bump_height, u + s.uv_shift.x, v + s.uv_shift.y,
+                                                               uv_footprint(derivatives), texels);
+                            pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
+                        }
                     if constexpr (general) {
                         if (!d.texture || solid) {
                             // (a material without a texture reads (u, v) for its bump map alone;
@@ -658,7 +663,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                 // what is behind (its depth too). (The short paths never draw such a material.)
                 if (!general || d.material.cutout <= 0.0f || texel.w >= d.material.cutout) {
                     depth_row[x] = float(depth.value);
-                    color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q);
+                    color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q, &texels);
                     ++shaded;
                 }
             }

@@ -566,9 +566,9 @@ private:
         }
         if (m.cutout > 0.0f && m.texture < 0)
             c.fail_at(c.where("cutout"), "material " + shown_name(m.name) + " has no texture: 'cutout' tests its texture's alpha");
-        if (m.bump >= 0 && m.lighting != Lighting::lambert)
+        if (m.bump >= 0 && m.lighting != Lighting::lambert && !(m.reflect > 0.0))
             c.fail_at(c.where("bump"), "a bump map changes only the shading normal: material " + shown_name(m.name) +
-                                           " needs 'lighting lambert' for it to show");
+                                           " needs 'lighting lambert' or 'reflect' for it to show");
         material_index_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
     }

@@ -16,7 +16,7 @@ double bump_height_at(const Texture& t, double height, double u, double v, std::
     return height * double(lookup(t, u, v, UVDerivatives{0.0, 0.0, 0.0, 0.0}, texels).x);
 }
 
-BumpSlope bump_slope(const Texture& t, double height, double u, double v, std::uint64_t& texels) {
+BumpSlope bump_slope(const Texture& t, double height, double u, double v, double footprint, std::uint64_t& texels) {
     BumpSlope s;
     if (t.procedural) {
         s.step_u = s.step_v = 1.0 / (256.0 * t.procedural->scale);
@@ -24,6 +24,7 @@ BumpSlope bump_slope(const Texture& t, double height, double u, double v, std::u
         s.step_u = 1.0 / double(t.mipmap->base().width());
         s.step_v = 1.0 / double(t.mipmap->base().height());
     }
+    if (footprint > 0.0 && std::isfinite(footprint)) s.step_u = std::max(s.step_u, footprint), s.step_v = std::max(s.step_v, footprint);
     s.b_u = (bump_height_at(t, height, u + s.step_u, v, texels) - bump_height_at(t, height, u - s.step_u, v, texels)) / (2.0 * s.step_u);
     s.b_v = (bump_height_at(t, height, u, v + s.step_v, texels) - bump_height_at(t, height, u, v - s.step_v, texels)) / (2.0 * s.step_v);
     return s;

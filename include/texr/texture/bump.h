@@ -21,13 +21,16 @@ namespace texr {
 // filter at the base level; a procedural texture's value). `texels` grows by those read.
 double bump_height_at(const Texture& t, double height, double u, double v, std::uint64_t& texels);
 
-// B_u and B_v by central differences over one texel of the base level (a procedural
-// texture: 1/256 of its pattern's cell): (B(u + h, v) - B(u - h, v)) / 2h, and likewise in v.
+// B_u and B_v by central differences, (B(u + h, v) - B(u - h, v)) / 2h and likewise in v,
+// over one texel of the base level (a procedural texture: 1/256 of its pattern's cell) or
+// the pixel's footprint in (u, v) (the longer derivative vector), whichever is wider: a
+// step-shaped height (bricks) then gives a slope a pixel wide, not a spike a few texels wide
+// that pixels far off would step over.
 struct BumpSlope {
     double b_u = 0.0, b_v = 0.0;
     double step_u = 0.0, step_v = 0.0;  // h in u and in v
 };
-BumpSlope bump_slope(const Texture& t, double height, double u, double v, std::uint64_t& texels);
+BumpSlope bump_slope(const Texture& t, double height, double u, double v, double footprint, std::uint64_t& texels);
 
 // The tangents O_u and O_v of a flat triangle, from its corners' positions p and texture
 // coordinates (u, v): the solution of p1 - p0 = O_u du1 + O_v dv1, p2 - p0 = O_u du2 + O_v dv2.
