@@ -197,7 +197,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     const auto rgb = [](const Color& c) { return channels(c.x, c.y, c.z); };
     const bool lit = m.lighting == Lighting::lambert;
     std::string out = std::string("\n6. Shading (lighting ") + (lit ? "lambert" : "none") + "): linear colour = material colour" +
-                      (m.texture >= 0 ? " x texture" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
+                      (m.texture >= 0 ? " x texture" : "") + (m.lightmap >= 0 ? " x light map" : "") + (m.slope ? " x slope colour" : "") + (needs & need_color ? " x vertex colour" : "") + (lit ? " x irradiance" : "") + "\n";
     Color c = m.color;
     out += "    material colour " + rgb(m.color) + "\n";
     // A bump map's slopes, read at the scene's (u, v) (the setup's shift added back, as the
@@ -207,7 +207,29 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
         const double footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
         return bump_slope(scene.textures[std::size_t(m.bump)], m.bump_height, u + e.uv_shift.x, v + e.uv_shift.y, footprint, texels);
     };
-    if (m.texture >= 0) c *= Color(texel), out += "    x texture       " + rgb(Color(texel)) + "\n";
+    // (the render multiplies the texel by the light map's E before the colour by the texel)
+    Color4 lit_texel = texel;
+    if (m.texture >= 0) out += "    x texture       " + rgb(Color(texel)) + "\n";
+    if (m.lightmap >= 0) {
+        const double r = m.lightmap_repeat, lu = (u + e.uv_shift.x) / r, lv = (v + e.uv_shift.y) / r;
+        const UVDerivatives d = uv_derivatives(e.h, u, v, q);
+        const Texture& map = scene.textures[std::size_t(m.lightmap)];
+        std::uint64_t texels = 0;
+        const Color irradiance(map.procedural ? procedural_value(*map.procedural, {lu, lv, 0.0}, 0.0)
+                                              : lookup(map, lu, lv, {d.dudx / r, d.dvdx / r, d.dudy / r, d.dvdy / r}, texels));
+        lit_texel *= Color4(irradiance, 1.0f);
+        out += "    x light map     " + rgb(irradiance) + " (" + shown_name(map.name) +
+               format(" at (u, v) / %.6g = (%.6g, %.6g): the irradiance E, B = rho E)\n", r, lu, lv);
+    }
+    if (m.texture >= 0 || m.lightmap >= 0) c *= Color(lit_texel);
+    if (m.slope && (needs & need_normal)) {
+        const glm::dvec3 n = unit_direction(over_q(e.normal));
+        const double alpha = std::clamp(glm::dot(n, m.slope_direction), 0.0, 1.0);
+        const Color slope = float(alpha) * m.slope_flat + (1.0f - float(alpha)) * m.slope_steep;
+        c *= slope;
+        out += "    x slope colour  " + rgb(slope) +
+               format(" (alpha = n . w = %.5f: alpha flat + (1 - alpha) steep)\n", alpha);
+    }
     if (needs & need_color) {
         const Color vertex(over_q(e.vertex_color));
         c *= vertex, out += "    x vertex colour " + rgb(vertex) + " (its plane over w, / q)\n";

@@ -23,6 +23,11 @@ Needs needs_of(const Material& material, const Scene& scene) {
         }
     }
     if (material.vertex_colors) needs |= need_color;
+    if (material.slope) needs |= need_normal;  // (alpha = n . direction)
+    if (material.lightmap >= 0) {              // read at (u, v), filtered with their derivatives
+        needs |= need_uv;
+        if (uses_footprint(scene.textures[std::size_t(material.lightmap)].sampler.filter)) needs |= need_uv_derivatives;
+    }
     // A reflection: the view ray from the eye to the surface point, and the normal.
     if (material.reflect > 0.0 && scene.environment >= 0) needs |= need_normal | need_world_position;
     // A bump map: (u, v) to read it and their derivatives (its step is at least the pixel's

@@ -108,6 +108,12 @@ Color shade(const DrawContext& d, const Color4& texel, const glm::dvec3& normal,
     Color c = d.material.color;
     // (a solid texture's texel comes with the world position, without (u, v); 1 where no texture)
     if constexpr ((N & (need_uv | need_world_position)) != 0) c *= Color(texel);
+    // Slope-based mapping: alpha flat + (1 - alpha) steep, alpha = n . direction in [0, 1].
+    if constexpr ((N & need_normal) != 0)
+        if (d.material.slope) {
+            const float alpha = float(std::clamp(glm::dot(unit_direction(normal), d.material.slope_direction), 0.0, 1.0));
+            c *= alpha * d.material.slope_flat + (1.0f - alpha) * d.material.slope_steep;
+        }
     if constexpr ((N & need_color) != 0) c *= Color(color);
     if (d.material.lighting == Lighting::lambert) {
         Color irradiance = d.scene.ambient;
@@ -229,7 +235,8 @@ template <Needs N>
 TexturePath texture_path(const DrawContext& d, const Framebuffer& fb) {
     if constexpr (!has_short_paths<N>) return TexturePath::general;
     if (d.spp > 1 || !fb.uv.empty()) return TexturePath::general;
-    if (!d.texture || d.material.cutout > 0.0f) return TexturePath::general;  // (a bump map's (u, v) alone; an alpha test)
+    // (a bump map's or a light map's (u, v) alone; an alpha test; a light map)
+    if (!d.texture || d.material.cutout > 0.0f || d.material.lightmap >= 0) return TexturePath::general;
     const Texture& t = *d.texture;
     if (t.procedural || !takes_short_path(*t.image, t.sampler)) return TexturePath::general;
     constexpr bool footprint = (N & need_uv_derivatives) != 0;
@@ -615,6 +622,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                 if constexpr (perspective)
                     if (divide) inv_q = 1.0 / q.value;  // the one divide per pixel
                 Color4 texel(1.0f);
+                Color irradiance_map(1.0f);  // a light map's E (general path)
                 glm::dvec3 pixel_normal = normal.value() * inv_q;
                 if constexpr ((N & need_uv) != 0) {
                     const double u = stepped_uv ? u_prime.value * inv_q : d.u_scratch[x - x0];
@@ -644,6 +652,16 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             texel = lookup(*d.texture, u, v, derivatives, texels);
                         }
                         if (uv_row) uv_row[x] = {u, v};
+                        if (d.material.lightmap >= 0) {
+                            // The light map's irradiance at the scene's (u, v) / repeat (the setup's
+                            // shift of whole periods of the colour texture added back).
+                            const double r = d.material.lightmap_repeat;
+                            const double lu = (u + s.uv_shift.x) / r, lv = (v + s.uv_shift.y) / r;
+                            const UVDerivatives scaled{derivatives.dudx / r, derivatives.dvdx / r, derivatives.dudy / r, derivatives.dvdy / r};
+                            const Texture& map = d.scene.textures[std::size_t(d.material.lightmap)];
+                            irradiance_map = Color(map.procedural ? procedural_value(*map.procedural, {lu, lv, 0.0}, 0.0)
+                                                                  : lookup(map, lu, lv, scaled, texels));
+                        }
                     } else {
                         constexpr bool footprint = (N & need_uv_derivatives) != 0;
                         const double lambda = footprint ? level_of_detail(derivatives, int(short_path.base.width), int(short_path.base.height)) : 0.0;
@@ -659,6 +677,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             texel = procedural_value(*solid, at, solid->pattern == Pattern::checker ? 0.0 : world_footprint(s, at, inv_q));
                         if (world_row) world_row[x] = at;
                     }
+                if constexpr (general) texel *= Color4(irradiance_map, 1.0f);
                 // A cutout material's texels below its alpha threshold are holes: the pixel keeps
                 // what is behind (its depth too). (The short paths never draw such a material.)
                 if (!general || d.material.cutout <= 0.0f || texel.w >= d.material.cutout) {

@@ -42,7 +42,7 @@ std::string not_in_texr_yet(const std::string& word) {
         {"cylindrical", "two-stage texture mapping"}, {"slope", "slope-based texture mapping"},
         {"cubemap", "cube maps (texr's environment maps are latitude-longitude)"},
         {"sphere_map", "sphere maps (texr's environment maps are latitude-longitude)"},
-        {"lightmap", "light maps"}, {"light_map", "light maps"}, 
+        {"light_map", "light maps (texr's: a material's 'lightmap TEXTURE')"}, 
         {"normal_map", "normal mapping"}, {"normalmap", "normal mapping"}, {"displacement", "displacement mapping"},
         {"displace", "displacement mapping"}};
     std::string lower;
@@ -562,8 +562,32 @@ private:
                 const double threshold = c.number("the cutout's alpha threshold");
                 if (!(threshold > 0.0 && threshold <= 1.0)) c.fail("the cutout's alpha threshold must be above 0 and at most 1");
                 m.cutout = float(threshold);
-            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump, reflect or cutout");
+            } else if (key == "slope") {
+                m.slope = true;
+                m.slope_flat = c.color("the slope mapping's flat colour");
+                m.slope_steep = c.color("the slope mapping's steep colour");
+            } else if (key == "slope_direction") {
+                const glm::dvec3 direction = c.vec3("the slope mapping's direction");
+                if (!(glm::length(direction) > 0.0) || !std::isfinite(glm::length(direction)))
+                    c.fail("the slope mapping's direction must not be zero (nor beyond a double's range)");
+                m.slope_direction = glm::normalize(direction);
+            } else if (key == "lightmap") {
+                const std::string name = c.word("a light map's texture name");
+                auto it = texture_index_.find(name);
+                if (it == texture_index_.end()) c.fail("unknown texture " + shown_name(name) + " (define it with a 'texture' line first)");
+                if (scene_.textures[std::size_t(it->second)].procedural && scene_.textures[std::size_t(it->second)].procedural->solid)
+                    c.fail("texture " + shown_name(name) + " is solid: a light map is read at (u, v) (leave out 'solid on')");
+                m.lightmap = it->second;
+            } else if (key == "lightmap_repeat") {
+                m.lightmap_repeat = c.number("how often the texture repeats over the light map");
+                if (!(m.lightmap_repeat > 0.0 && m.lightmap_repeat <= 1e9)) c.fail("lightmap_repeat must be above 0 and at most 1e9");
+            } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, "
+                                                      "slope_direction, lightmap or lightmap_repeat");
         }
+        if (c.seen("slope_direction") && !m.slope)
+            c.fail_at(c.where("slope_direction"), "'slope_direction' belongs with 'slope FLAT STEEP' (r g b each)");
+        if (c.seen("lightmap_repeat") && m.lightmap < 0)
+            c.fail_at(c.where("lightmap_repeat"), "'lightmap_repeat' belongs with 'lightmap TEXTURE'");
         if (m.cutout > 0.0f && m.texture < 0)
             c.fail_at(c.where("cutout"), "material " + shown_name(m.name) + " has no texture: 'cutout' tests its texture's alpha");
         if (m.bump >= 0 && m.lighting != Lighting::lambert && !(m.reflect > 0.0))

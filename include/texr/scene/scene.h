@@ -57,6 +57,15 @@ struct Material {
     // Opacity as an alpha test: where the texture's alpha is below this, the surface is a hole
     // (the lecture's billboards "often with opacity texture"); 0: opaque everywhere.
     float cutout = 0.0f;
+    // Slope-based mapping (the lecture's): alpha = n . direction (clamped to [0, 1]), the colour
+    // multiplied by alpha flat + (1 - alpha) steep.
+    bool slope = false;
+    Color slope_flat{1.0f}, slope_steep{1.0f};
+    glm::dvec3 slope_direction{0.0, 1.0, 0.0};
+    // A light map (the lecture's "Light Maps"): its texture is the irradiance E, read at
+    // (u, v) / lightmap_repeat, and multiplies the colour (B = rho E); -1: none.
+    int lightmap = -1;
+    double lightmap_repeat = 1.0;
 };
 
 struct Light {
