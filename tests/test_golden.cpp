@@ -66,6 +66,10 @@ TEST_CASE("golden: procedural textures (checkerboard, brick, marble, turbulence,
     check_golden("models/procedural.scene", 200, 150, "procedural.png");
 }
 
+TEST_CASE("golden: the lecture's techniques together (environment, reflection, bump, slope, light map, billboards, parametric)") {
+    check_golden("models/lecture.scene", 200, 150, "lecture.png");
+}
+
 TEST_CASE("golden: every filter on the receding benchmark plane") {
     for (int f = 0; f < filter_count; ++f) {
         const Filter filter = Filter(f);

@@ -10,7 +10,8 @@ import zlib
 
 
 def write_png(path, width, height, pixel):
-    """pixel(i, j) -> (r, g, b) bytes; j = 0 is the top row of the file."""
+    """pixel(i, j) -> (r, g, b) bytes, or (r, g, b, a) for an image with alpha (every pixel
+    alike); j = 0 is the top row of the file."""
     rows = bytearray()
     for j in range(height):
         rows.append(0)  # filter type: none
@@ -21,7 +22,8 @@ def write_png(path, width, height, pixel):
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
 
-    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    colour_type = 6 if len(pixel(0, 0)) == 4 else 2  # RGBA or RGB
+    header = struct.pack(">IIBBBBB", width, height, 8, colour_type, 0, 0, 0)
     with open(path, "wb") as f:
         f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
                 chunk(b"IDAT", zlib.compress(bytes(rows), 9)) + chunk(b"IEND", b""))
@@ -56,6 +58,19 @@ def detail(i, j, size=1024):
     fine = ((i // 8) + (j // 8)) % 2
     base = (60 + (cu * 37) % 180, 60 + (cv * 53) % 180, 60 + ((cu + cv) * 29) % 180)
     return tuple(min(255, c + 50) if fine else c for c in base)
+
+
+def tree(i, j, size=64):
+    """A billboard's tree (RGBA, straight alpha): a round crown on a trunk, transparent around
+    them. The transparent texels take the crown's green, so that a filter blending them with
+    the crown's edge (alpha 0 beside 1) blends in no other colour."""
+    x, y = i - (size - 1) / 2, j - size * 3 / 8
+    if x * x + y * y < (size * 0.34) ** 2:
+        shade = 110 + (i * 7 + j * 3) % 50
+        return (40, shade, 45, 255)
+    if abs(x) < size / 16 and j >= size * 5 / 8:
+        return (105, 70, 40, 255)
+    return (45, 130, 50, 0)
 
 
 def write_torus(path, major=1.0, minor=0.4, segments=48, rings=24):
@@ -115,5 +130,6 @@ if __name__ == "__main__":
     write_png("models/textures/checker.png", 256, 256, checker)
     write_png("models/textures/uvgrid.png", 256, 256, uvgrid)
     write_png("models/textures/detail.png", 1024, 1024, detail)
+    write_png("models/textures/tree.png", 64, 64, tree)
     write_torus("models/torus.obj")
     write_cube("models/cube.obj")
