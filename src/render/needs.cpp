@@ -7,7 +7,11 @@ Needs needs_of(const Material& material, const Scene& scene) {
     Needs needs = 0;
     if (material.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(material.texture)];
-        if (t.procedural && t.procedural->solid) {
+        if (material.projector >= 0) {
+            // Thrown by a projector: read where it falls on the world position (its footprint
+            // from the same planes).
+            needs |= need_world_position;
+        } else if (t.procedural && t.procedural->solid) {
             // A solid texture reads the world position alone (its footprint comes from the same
             // planes: scanline.h, world_footprint).
             needs |= need_world_position;

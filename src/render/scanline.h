@@ -20,6 +20,7 @@
 #include "texr/render/stats.h"
 #include "texr/texture/bump.h"
 #include "texr/texture/environment.h"
+#include "texr/texture/projective.h"
 #include "texr/texture/lookup.h"
 #include "texr/texture/lod_avx2.h"
 #include "texr/texture/minify.h"
@@ -182,6 +183,15 @@ Color4 supersampled_texel(const DrawContext& d, const TriangleSetup& s, int x, i
     const auto sample = [&](int i, int j) {
         const double sx = x + (i + 0.5) / n, sy = y + (j + 0.5) / n;
         const glm::dvec2 uv = h.uv_at(sx, sy);
+        if (d.material.projector >= 0) {  // a projected texture: where the projector throws it, at each sample
+            const double q = h.q.at(sx, sy);
+            glm::dvec3 world;
+            for (int a = 0; a < 3; ++a) world[a] = s.world[std::size_t(a)].at(sx, sy) / q;
+            const ProjectedUV thrown = project(d.scene.projectors[std::size_t(d.material.projector)], world, glm::dvec3(0.0), glm::dvec3(0.0));
+            if (!thrown.ahead) return d.texture->sampler.border;
+            if (d.texture->procedural) return procedural_value(*d.texture->procedural, {thrown.u, thrown.v, 0.0}, 0.0);
+            return sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, thrown.u, thrown.v);
+        }
         if (const Procedural* p = d.texture->procedural.get()) {
             glm::dvec3 world(0.0);
             if (p->solid) {
@@ -614,7 +624,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         glm::dvec3* world_row = !general || fb.world_read.empty() ? nullptr : &fb.world_read[fb.index(0, y)];
         // A solid procedural texture reads the world position, not (u, v).
         const Procedural* solid = d.texture && d.texture->procedural && d.texture->procedural->solid ? d.texture->procedural.get() : nullptr;
-        (void)solid, (void)world_row;
+        // A projector's texture is read where it throws it on the world position.
+        const Projector* projector = d.texture && d.material.projector >= 0 ? &d.scene.projectors[std::size_t(d.material.projector)] : nullptr;
+        (void)solid, (void)world_row, (void)projector;
         std::uint64_t shaded = 0, texels = 0;
         for (int x = span.x0; x < span.x1; ++x) {
             if (float(depth.value) < depth_row[x]) {
@@ -640,9 +652,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
                         }
                     if constexpr (general) {
-                        if (!d.texture || solid) {
-                            // (a material without a texture reads (u, v) for its bump map alone;
-                            // a solid texture is read below)
+                        if (!d.texture || solid || projector) {
+                            // (a material without a texture reads (u, v) for its bump or light map
+                            // alone; a solid or projected texture is read below)
                         } else if (d.spp > 1) {
                             texel = supersampled_texel(d, s, x, y, texels);
                         } else if (const Procedural* p = d.texture->procedural.get()) {
@@ -675,6 +687,25 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             texel = supersampled_texel(d, s, x, y, texels);
                         else  // (the checkerboard needs no footprint)
                             texel = procedural_value(*solid, at, solid->pattern == Pattern::checker ? 0.0 : world_footprint(s, at, inv_q));
+                        if (world_row) world_row[x] = at;
+                    }
+                if constexpr (general && (N & need_world_position) != 0)
+                    if (projector) {
+                        const glm::dvec3 at = world.value() * inv_q;
+                        glm::dvec3 dp_dx, dp_dy;  // the world position's screen derivatives, by the quotient rule
+                        for (int a = 0; a < 3; ++a) {
+                            dp_dx[a] = (s.world[std::size_t(a)].dx - at[a] * s.h.q.dx) * inv_q;
+                            dp_dy[a] = (s.world[std::size_t(a)].dy - at[a] * s.h.q.dy) * inv_q;
+                        }
+                        const ProjectedUV thrown = project(*projector, at, dp_dx, dp_dy);
+                        if (d.spp > 1)
+                            texel = supersampled_texel(d, s, x, y, texels);
+                        else if (!thrown.ahead)  // (behind the projector: nothing thrown, the texture's border colour)
+                            texel = d.texture->sampler.border;
+                        else if (d.texture->procedural)
+                            texel = procedural_value(*d.texture->procedural, {thrown.u, thrown.v, 0.0}, uv_footprint(thrown.d));
+                        else
+                            texel = lookup(*d.texture, thrown.u, thrown.v, thrown.d, texels);
                         if (world_row) world_row[x] = at;
                     }
                 if constexpr (general) texel *= Color4(irradiance_map, 1.0f);

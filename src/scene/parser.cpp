@@ -37,9 +37,8 @@ std::string not_in_texr_yet(const std::string& word) {
         {"torus", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"cone", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"wood", "wood pattern (solid noise)"}, {"granite", "granite pattern (solid noise)"},
-        {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"projective", "projective texture mapping"},
-        {"projector", "projective texture mapping"}, {"spherical", "two-stage texture mapping"},
-        {"cylindrical", "two-stage texture mapping"}, {"slope", "slope-based texture mapping"},
+        {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"spherical", "two-stage texture mapping"},
+        {"cylindrical", "two-stage texture mapping"}, {"planar", "two-stage texture mapping"},
         {"cubemap", "cube maps (texr's environment maps are latitude-longitude)"},
         {"sphere_map", "sphere maps (texr's environment maps are latitude-longitude)"},
         {"light_map", "light maps (texr's: a material's 'lightmap TEXTURE')"}, 
@@ -304,10 +303,11 @@ public:
         else if (name == "triangle") polygon(c, 3);
         else if (name == "quad") polygon(c, 4);
         else if (name == "billboard") billboard(c);
+        else if (name == "projector") projector(c);
         else if (name == "sphere" || name == "cylinder" || name == "disc") parametric(c, name);
         else c.fail("unknown command " + shown_token(name) +
-                    " (expected size, camera, background, ambient, environment, texture, material, light, mesh, triangle, quad, "
-                    "billboard, sphere, cylinder or disc)" +
+                    " (expected size, camera, background, ambient, environment, texture, material, light, projector, mesh, "
+                    "triangle, quad, billboard, sphere, cylinder or disc)" +
                     not_in_texr_yet(name));
         if (!c.done()) c.fail("unexpected " + shown_token(c.peek()) + " at the end of " + shown_token(name));
     }
@@ -581,9 +581,19 @@ private:
             } else if (key == "lightmap_repeat") {
                 m.lightmap_repeat = c.number("how often the texture repeats over the light map");
                 if (!(m.lightmap_repeat > 0.0 && m.lightmap_repeat <= 1e9)) c.fail("lightmap_repeat must be above 0 and at most 1e9");
+            } else if (key == "projector") {
+                const std::string name = c.word("a projector's name");
+                const auto it = projector_index_.find(name);
+                if (it == projector_index_.end()) c.fail("unknown projector " + shown_name(name) + " (define it with a 'projector' line first)");
+                m.projector = it->second;
             } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, "
-                                                      "slope_direction, lightmap or lightmap_repeat");
+                                                      "slope_direction, lightmap, lightmap_repeat or projector");
         }
+        if (m.projector >= 0 && m.texture < 0)
+            c.fail_at(c.where("projector"), "material " + shown_name(m.name) + " has no texture for its projector to throw ('texture NAME')");
+        if (m.projector >= 0 && scene_.textures[std::size_t(m.texture)].procedural && scene_.textures[std::size_t(m.texture)].procedural->solid)
+            c.fail_at(c.where("projector"), "texture " + shown_name(scene_.textures[std::size_t(m.texture)].name) +
+                                                " is solid: a projector throws (u, v) (leave out 'solid on')");
         if (c.seen("slope_direction") && !m.slope)
             c.fail_at(c.where("slope_direction"), "'slope_direction' belongs with 'slope FLAT STEEP' (r g b each)");
         if (c.seen("lightmap_repeat") && m.lightmap < 0)
@@ -595,6 +605,47 @@ private:
                                            " needs 'lighting lambert' or 'reflect' for it to show");
         material_index_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
+    }
+
+    // projector NAME eye x y z target x y z [up x y z] [fov F | parallel H] [aspect A]
+    void projector(Cursor& c) {
+        Projector p;
+        p.name = c.word("a projector name");
+        define_once(c, "projector " + shown_name(p.name));
+        std::size_t view_at = 0;
+        while (!c.done()) {
+            const std::string key = c.word("a projector option");
+            c.once(key);
+            if ((key == "fov" && c.seen("parallel")) || (key == "parallel" && c.seen("fov")))
+                c.fail("a projector is either perspective ('fov') or parallel ('parallel'), not both");
+            if (key == "eye") p.eye = c.vec3("the projector's position"), view_at = c.mark();
+            else if (key == "target") p.target = c.vec3("the point the projector aims at"), view_at = c.mark();
+            else if (key == "up") p.up = c.vec3("the projector's up");
+            else if (key == "fov") {
+                p.fov_y_degrees = c.number("the projector's field of view in degrees");
+                if (!(p.fov_y_degrees >= 1e-6 && p.fov_y_degrees < 180.0)) c.fail("the projector's fov must be at least 1e-6 and below 180 degrees");
+            } else if (key == "parallel") {
+                p.parallel = true;
+                p.height = c.number("the parallel projection's height");
+                if (!(p.height > 0.0 && p.height <= 1e18)) c.fail("the parallel projection's height must be above 0 and at most 1e18");
+            } else if (key == "aspect") {
+                p.aspect = c.number("the projected image's width over height");
+                if (!(p.aspect > 0.0 && p.aspect <= 1e6)) c.fail("the projector's aspect must be above 0 and at most 1e6");
+            } else c.unknown_option("projector", key, "eye, target, up, fov, parallel or aspect");
+        }
+        const glm::dvec3 view = p.target - p.eye;
+        if (!(glm::length(view) > 0.0) || !std::isfinite(glm::length(view)))
+            c.fail_at(view_at ? view_at : c.mark(), "the projector's eye and target must be apart (and within a double's range)");
+        if (!(glm::length(glm::cross(glm::normalize(view), p.up)) > 0.0))
+            c.fail("the projector's up must not be zero or parallel to its view");
+        const glm::dmat4 look = glm::lookAtRH(p.eye, p.target, p.up);
+        // (near and far do not matter: the image is x/w, y/w; w is the distance along the view)
+        const glm::dmat4 lens = p.parallel ? glm::orthoRH_NO(-0.5 * p.height * p.aspect, 0.5 * p.height * p.aspect, -0.5 * p.height,
+                                                             0.5 * p.height, -1.0, 1.0)
+                                           : glm::perspectiveRH_NO(glm::radians(p.fov_y_degrees), p.aspect, 1.0, 2.0);
+        p.matrix = lens * look;
+        projector_index_[p.name] = int(scene_.projectors.size());
+        scene_.projectors.push_back(p);
     }
 
     void light(Cursor& c) {
@@ -953,12 +1004,15 @@ private:
             // (a solid texture reads the world position, not the mesh's UVs)
             const bool solid = m.texture >= 0 && scene_.textures[std::size_t(m.texture)].procedural &&
                                scene_.textures[std::size_t(m.texture)].procedural->solid;
-            const bool reads_uv = (m.texture >= 0 && !solid) || m.bump >= 0;
+            const bool reads_uv = (m.texture >= 0 && !solid && m.projector < 0) || m.bump >= 0 || m.lightmap >= 0;
             if (reads_uv && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
                 c.fail_at(at, what + " has faces without texture coordinates (vt) drawn with material " + shown_name(m.name) +
                                   ", which uses texture " +
-                                  shown_name(scene_.textures[std::size_t(m.texture >= 0 && !solid ? m.texture : m.bump)].name) +
-                                  (m.texture >= 0 && !solid ? "" : " as its bump map"));
+                                  shown_name(scene_.textures[std::size_t(m.texture >= 0 && !solid && m.projector < 0 ? m.texture
+                                                                         : m.bump >= 0                                      ? m.bump
+                                                                                                                            : m.lightmap)]
+                                                 .name) +
+                                  (m.texture >= 0 && !solid && m.projector < 0 ? "" : m.bump >= 0 ? " as its bump map" : " as its light map"));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));
@@ -1002,6 +1056,7 @@ private:
     std::string folder_;
     std::map<std::string, int> texture_index_, material_index_;
     std::map<std::string, int> defined_on_;  // "texture 't'" / "material 'm'": the line that defined it
+    std::map<std::string, int> projector_index_;
     std::map<std::string, int> settings_line_;  // size, camera, background, ambient: the line of each
     struct PendingBillboard {
         int line = 0, material = -1;

@@ -66,6 +66,20 @@ struct Material {
     // (u, v) / lightmap_repeat, and multiplies the colour (B = rho E); -1: none.
     int lightmap = -1;
     double lightmap_repeat = 1.0;
+    int projector = -1;  // its texture is read where this projector throws it; -1: at the mesh's (u, v)
+};
+
+// A slide projector (the lecture's "Projective Textures"): a material that names it reads
+// its texture at the (u, v) the projector throws on each surface point, not at the mesh's.
+struct Projector {
+    std::string name;
+    glm::dvec3 eye{0.0, 0.0, 3.0}, target{0.0}, up{0.0, 1.0, 0.0};
+    bool parallel = false;
+    double fov_y_degrees = 30.0;  // perspective: the vertical field of view
+    double aspect = 1.0;          // width over height of the projected image
+    double height = 1.0;          // parallel: the projected image's height in world units
+    // World position -> clip space of the projector (OpenGL's; the image is x, y in [-w, w]).
+    glm::dmat4 matrix{1.0};
 };
 
 struct Light {
@@ -112,6 +126,7 @@ struct Scene {
     std::vector<Texture> textures;
     std::vector<Material> materials;
     std::vector<Light> lights;
+    std::vector<Projector> projectors;
     std::vector<Mesh> meshes;
     std::vector<Object> objects;
 };
