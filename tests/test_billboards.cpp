@@ -195,7 +195,7 @@ TEST_CASE("billboards and cutout in scene files: options, order, messages") {
              {"texture t procedural checker\nmaterial m texture t cutout 0\nbillboard material m center 0 0 0 size 1 1\n",
               "4: the cutout's alpha threshold must be above 0 and at most 1"},
              {"material m opacity 0.5\n",
-              "3: unknown material option 'opacity' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat or projector); "
+              "3: unknown material option 'opacity' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat, projector, mapping, mapping_center, mapping_axis or mapping_size); "
               "'opacity': texr's opacity is an alpha test, a material's 'cutout THRESHOLD' (blending is not in texr; "
               "docs/scene-format.md)"},
          }) {

@@ -226,7 +226,7 @@ TEST_CASE("bad scene lines name file:line and what was expected") {
     expect_failure("eye-then-numbers", "camera eye 0 0 3 0 0 0\n" + good_scene,
                    "scene.txt:1: unknown camera option '0' (expected eye, target, up, fov, near or far): numbers too many for 'eye' before "
                    "them, or an option's name missing?");
-    expect_failure("word-not-number", good_scene + "material m color 1 0 0 x\n", "scene.txt:5: unknown material option 'x' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat or projector)\n");
+    expect_failure("word-not-number", good_scene + "material m color 1 0 0 x\n", "scene.txt:5: unknown material option 'x' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat, projector, mapping, mapping_center, mapping_axis or mapping_size)\n");
     // 'mesh material m': the file name forgotten.
     expect_failure("mesh-without-file", good_scene + "mesh material red\n",
                    "scene.txt:5: expected an OBJ file name after 'mesh', found 'material', one of its options (mesh FILE [options])");
@@ -3098,7 +3098,7 @@ TEST_CASE("a lecture word texr does not have yet is named as such, and a line cu
                               "light, projector, mesh, triangle, quad, billboard, sphere, cylinder or disc); 'cone' belongs to the lecture's "
                               "parametric surfaces (texr's: sphere, cylinder and disc)" + note},
              {"material m color 1 1 1 Opacity 0.5",
-              "unknown material option 'Opacity' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat or projector); 'Opacity': texr's "
+              "unknown material option 'Opacity' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat, projector, mapping, mapping_center, mapping_axis or mapping_size); 'Opacity': texr's "
               "opacity is an alpha test, a material's 'cutout THRESHOLD' (blending is not in texr; docs/scene-format.md)\n"},
              {"texture t procedural wood",
               "unknown procedural pattern 'wood' (expected one of: brick, checker, marble, noise, tile, turbulence); 'wood' belongs to "
@@ -3110,7 +3110,7 @@ TEST_CASE("a lecture word texr does not have yet is named as such, and a line cu
              {"quad normal_map 1", "unknown quad option 'normal_map' (expected v, n, c, material, cull, translate, rotate or scale); "
                                    "'normal_map' belongs to the lecture's normal mapping" + note},
              // Other words: no such note.
-             {"material m shiny 1", "unknown material option 'shiny' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat or projector)\n"},
+             {"material m shiny 1", "unknown material option 'shiny' (expected color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, slope_direction, lightmap, lightmap_repeat, projector, mapping, mapping_center, mapping_axis or mapping_size)\n"},
              {"cone2 1", "unknown command 'cone2' (expected size, camera, background, ambient, environment, texture, material, "
                          "light, projector, mesh, triangle, quad, billboard, sphere, cylinder or disc)\n"},
              // A line cut short: what was expected, and that the line ended.

@@ -404,9 +404,8 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                   exact_d.dvdy);
 
     Color4 texel(1.0f);
-    if (m.texture >= 0 && m.projector >= 0) {
+    if (m.texture >= 0 && (m.projector >= 0 || m.mapping.kind != Intermediate::none)) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
-        const Projector& p = scene.projectors[std::size_t(m.projector)];
         glm::dvec3 world, dx, dy;
         for (int i = 0; i < 3; ++i) world[i] = e.world[std::size_t(i)].at(x, y) / q;
         if (e.world_read_known) world = e.world_read;  // (the position the span walk stepped to)
@@ -414,18 +413,29 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
             dx[i] = (e.world[std::size_t(i)].dx - world[i] * e.h.q.dx) / q;
             dy[i] = (e.world[std::size_t(i)].dy - world[i] * e.h.q.dy) / q;
         }
-        const ProjectedUV thrown = project(p, world, dx, dy);
-        out += "\n5. Texture " + shown_name(t.name) + ", thrown by projector " + shown_name(p.name) +
-               (p.parallel ? " (parallel)" : " (perspective)") + ":\n" +
-               format("    the world position P = P'/q: (%.10g, %.10g, %.10g)\n", world.x, world.y, world.z);
+        ProjectedUV thrown;
+        if (m.projector >= 0) {
+            const Projector& p = scene.projectors[std::size_t(m.projector)];
+            thrown = project(p, world, dx, dy);
+            out += "\n5. Texture " + shown_name(t.name) + ", thrown by projector " + shown_name(p.name) +
+                   (p.parallel ? " (parallel)" : " (perspective)") + ":\n";
+        } else {
+            const glm::dvec2 uv = intermediate_uv(m.mapping, world);
+            thrown.ahead = true, thrown.u = uv.x, thrown.v = uv.y, thrown.d = intermediate_derivatives(m.mapping, world, dx, dy);
+            const char* kinds[] = {"", "planar", "cylindrical", "spherical"};
+            out += "\n5. Texture " + shown_name(t.name) + ", on a " + kinds[int(m.mapping.kind)] + " intermediate surface (two-stage mapping):\n";
+        }
+        out += format("    the world position P = P'/q: (%.10g, %.10g, %.10g)\n", world.x, world.y, world.z);
         std::uint64_t texels = 0;
         if (!thrown.ahead) {
             texel = t.sampler.border;
             out += "    behind the projector: nothing is thrown here; the texture's border colour\n";
         } else {
-            out += format("    its clip coordinates c = M (P, 1): u = (c.x / c.w + 1) / 2 = %.10g, v = (c.y / c.w + 1) / 2 = %.10g\n",
-                          thrown.u, thrown.v) +
-                   format("    derivatives by the quotient rule: du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
+            out += (m.projector >= 0
+                        ? format("    its clip coordinates c = M (P, 1): u = (c.x / c.w + 1) / 2 = %.10g, v = (c.y / c.w + 1) / 2 = %.10g\n",
+                                 thrown.u, thrown.v)
+                        : format("    in the surface's frame (x', y', z'), one coordinate dropped: u = %.10g, v = %.10g\n", thrown.u, thrown.v)) +
+                   format("    their derivatives: du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
                           thrown.d.dudx, thrown.d.dvdx, thrown.d.dudy, thrown.d.dvdy);
             texel = t.procedural ? procedural_value(*t.procedural, {thrown.u, thrown.v, 0.0},
                                                     std::max(std::hypot(thrown.d.dudx, thrown.d.dvdx), std::hypot(thrown.d.dudy, thrown.d.dvdy)))

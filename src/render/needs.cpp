@@ -7,7 +7,7 @@ Needs needs_of(const Material& material, const Scene& scene) {
     Needs needs = 0;
     if (material.texture >= 0) {
         const Texture& t = scene.textures[std::size_t(material.texture)];
-        if (material.projector >= 0) {
+        if (material.projector >= 0 || material.mapping.kind != Intermediate::none) {
             // Thrown by a projector: read where it falls on the world position (its footprint
             // from the same planes).
             needs |= need_world_position;

@@ -183,11 +183,19 @@ Color4 supersampled_texel(const DrawContext& d, const TriangleSetup& s, int x, i
     const auto sample = [&](int i, int j) {
         const double sx = x + (i + 0.5) / n, sy = y + (j + 0.5) / n;
         const glm::dvec2 uv = h.uv_at(sx, sy);
-        if (d.material.projector >= 0) {  // a projected texture: where the projector throws it, at each sample
+        if (d.material.projector >= 0 || d.material.mapping.kind != Intermediate::none) {
+            // a projected or mapped texture: where the projector throws it, or the intermediate
+            // surface maps it, at each sample
             const double q = h.q.at(sx, sy);
             glm::dvec3 world;
             for (int a = 0; a < 3; ++a) world[a] = s.world[std::size_t(a)].at(sx, sy) / q;
-            const ProjectedUV thrown = project(d.scene.projectors[std::size_t(d.material.projector)], world, glm::dvec3(0.0), glm::dvec3(0.0));
+            ProjectedUV thrown;
+            if (d.material.projector >= 0) {
+                thrown = project(d.scene.projectors[std::size_t(d.material.projector)], world, glm::dvec3(0.0), glm::dvec3(0.0));
+            } else {
+                const glm::dvec2 mapped = intermediate_uv(d.material.mapping, world);
+                thrown.ahead = true, thrown.u = mapped.x, thrown.v = mapped.y;
+            }
             if (!thrown.ahead) return d.texture->sampler.border;
             if (d.texture->procedural) return procedural_value(*d.texture->procedural, {thrown.u, thrown.v, 0.0}, 0.0);
             return sample_bilinear(d.texture->mipmap->base(), d.texture->sampler, thrown.u, thrown.v);
@@ -626,7 +634,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
         const Procedural* solid = d.texture && d.texture->procedural && d.texture->procedural->solid ? d.texture->procedural.get() : nullptr;
         // A projector's texture is read where it throws it on the world position.
         const Projector* projector = d.texture && d.material.projector >= 0 ? &d.scene.projectors[std::size_t(d.material.projector)] : nullptr;
-        (void)solid, (void)world_row, (void)projector;
+        // Or at an intermediate surface's (u, v) of the world position.
+        const IntermediateMapping* mapping = d.texture && d.material.mapping.kind != Intermediate::none ? &d.material.mapping : nullptr;
+        (void)solid, (void)world_row, (void)projector, (void)mapping;
         std::uint64_t shaded = 0, texels = 0;
         for (int x = span.x0; x < span.x1; ++x) {
             if (float(depth.value) < depth_row[x]) {
@@ -652,7 +662,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
                         }
                     if constexpr (general) {
-                        if (!d.texture || solid || projector) {
+                        if (!d.texture || solid || projector || mapping) {
                             // (a material without a texture reads (u, v) for its bump or light map
                             // alone; a solid or projected texture is read below)
                         } else if (d.spp > 1) {
@@ -690,14 +700,21 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         if (world_row) world_row[x] = at;
                     }
                 if constexpr (general && (N & need_world_position) != 0)
-                    if (projector) {
+                    if (projector || mapping) {
                         const glm::dvec3 at = world.value() * inv_q;
                         glm::dvec3 dp_dx, dp_dy;  // the world position's screen derivatives, by the quotient rule
                         for (int a = 0; a < 3; ++a) {
                             dp_dx[a] = (s.world[std::size_t(a)].dx - at[a] * s.h.q.dx) * inv_q;
                             dp_dy[a] = (s.world[std::size_t(a)].dy - at[a] * s.h.q.dy) * inv_q;
                         }
-                        const ProjectedUV thrown = project(*projector, at, dp_dx, dp_dy);
+                        ProjectedUV thrown;
+                        if (projector) {
+                            thrown = project(*projector, at, dp_dx, dp_dy);
+                        } else {  // (an intermediate surface maps every point)
+                            const glm::dvec2 uv = intermediate_uv(*mapping, at);
+                            thrown.ahead = true, thrown.u = uv.x, thrown.v = uv.y;
+                            thrown.d = intermediate_derivatives(*mapping, at, dp_dx, dp_dy);
+                        }
                         if (d.spp > 1)
                             texel = supersampled_texel(d, s, x, y, texels);
                         else if (!thrown.ahead)  // (behind the projector: nothing thrown, the texture's border colour)

@@ -37,8 +37,9 @@ std::string not_in_texr_yet(const std::string& word) {
         {"torus", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"cone", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"wood", "wood pattern (solid noise)"}, {"granite", "granite pattern (solid noise)"},
-        {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"spherical", "two-stage texture mapping"},
-        {"cylindrical", "two-stage texture mapping"}, {"planar", "two-stage texture mapping"},
+        {"bark", "bark pattern"}, {"clouds", "clouds pattern"}, {"spherical", "two-stage mapping (texr's: a material's 'mapping spherical')"},
+        {"cylindrical", "two-stage mapping (texr's: a material's 'mapping cylindrical')"},
+        {"planar", "two-stage mapping (texr's: a material's 'mapping planar')"},
         {"cubemap", "cube maps (texr's environment maps are latitude-longitude)"},
         {"sphere_map", "sphere maps (texr's environment maps are latitude-longitude)"},
         {"light_map", "light maps (texr's: a material's 'lightmap TEXTURE')"}, 
@@ -581,13 +582,42 @@ private:
             } else if (key == "lightmap_repeat") {
                 m.lightmap_repeat = c.number("how often the texture repeats over the light map");
                 if (!(m.lightmap_repeat > 0.0 && m.lightmap_repeat <= 1e9)) c.fail("lightmap_repeat must be above 0 and at most 1e9");
+            } else if (key == "mapping") {
+                m.mapping.kind = choose<Intermediate>(
+                    c, "intermediate mapping",
+                    {{"planar", Intermediate::planar}, {"cylindrical", Intermediate::cylindrical}, {"spherical", Intermediate::spherical}});
+            } else if (key == "mapping_center") {
+                m.mapping.center = c.vec3("the intermediate surface's centre");
+            } else if (key == "mapping_axis") {
+                const glm::dvec3 axis = c.vec3("the intermediate surface's axis");
+                if (!(glm::length(axis) > 0.0) || !std::isfinite(glm::length(axis)))
+                    c.fail("the intermediate surface's axis must not be zero (nor beyond a double's range)");
+                m.mapping.axis = glm::normalize(axis);
+            } else if (key == "mapping_size") {
+                m.mapping.size = c.number("the intermediate surface's size");
+                if (!(m.mapping.size > 0.0 && m.mapping.size <= 1e18)) c.fail("mapping_size must be above 0 and at most 1e18");
             } else if (key == "projector") {
                 const std::string name = c.word("a projector's name");
                 const auto it = projector_index_.find(name);
                 if (it == projector_index_.end()) c.fail("unknown projector " + shown_name(name) + " (define it with a 'projector' line first)");
                 m.projector = it->second;
             } else c.unknown_option("material", key, "color, texture, lighting, vertex_colors, bump, reflect, cutout, slope, "
-                                                      "slope_direction, lightmap, lightmap_repeat or projector");
+                                                      "slope_direction, lightmap, lightmap_repeat, projector, mapping, mapping_center, "
+                                                      "mapping_axis or mapping_size");
+        }
+        for (const char* option : {"mapping_center", "mapping_axis", "mapping_size"})
+            if (c.seen(option) && m.mapping.kind == Intermediate::none)
+                c.fail_at(c.where(option), shown_token(option) + " belongs with 'mapping planar|cylindrical|spherical'");
+        if (m.mapping.kind != Intermediate::none) {
+            if (m.texture < 0) c.fail_at(c.where("mapping"), "material " + shown_name(m.name) + " has no texture to map ('texture NAME')");
+            if (m.projector >= 0) c.fail_at(c.where("mapping"), "a material's texture is either thrown by a projector or mapped, not both");
+            const Texture& t = scene_.textures[std::size_t(m.texture)];
+            if (t.procedural && t.procedural->solid)
+                c.fail_at(c.where("mapping"), "texture " + shown_name(t.name) + " is solid: an intermediate mapping gives (u, v) (leave out 'solid on')");
+            // x' of the frame: the world's x made square to the axis (z where the axis is along x).
+            glm::dvec3 reference = glm::dvec3(1.0, 0.0, 0.0) - m.mapping.axis.x * m.mapping.axis;
+            if (glm::length(reference) < 1e-6) reference = glm::dvec3(0.0, 0.0, 1.0) - m.mapping.axis.z * m.mapping.axis;
+            m.mapping.reference = glm::normalize(reference);
         }
         if (m.projector >= 0 && m.texture < 0)
             c.fail_at(c.where("projector"), "material " + shown_name(m.name) + " has no texture for its projector to throw ('texture NAME')");
@@ -1004,15 +1034,16 @@ private:
             // (a solid texture reads the world position, not the mesh's UVs)
             const bool solid = m.texture >= 0 && scene_.textures[std::size_t(m.texture)].procedural &&
                                scene_.textures[std::size_t(m.texture)].procedural->solid;
-            const bool reads_uv = (m.texture >= 0 && !solid && m.projector < 0) || m.bump >= 0 || m.lightmap >= 0;
+            const bool own_uv = m.texture >= 0 && !solid && m.projector < 0 && m.mapping.kind == Intermediate::none;
+            const bool reads_uv = own_uv || m.bump >= 0 || m.lightmap >= 0;
             if (reads_uv && !mesh.has_uv && (mesh.triangle_without_uv.empty() || mesh.triangle_without_uv[t]))
                 c.fail_at(at, what + " has faces without texture coordinates (vt) drawn with material " + shown_name(m.name) +
                                   ", which uses texture " +
-                                  shown_name(scene_.textures[std::size_t(m.texture >= 0 && !solid && m.projector < 0 ? m.texture
+                                  shown_name(scene_.textures[std::size_t(own_uv                                      ? m.texture
                                                                          : m.bump >= 0                                      ? m.bump
                                                                                                                             : m.lightmap)]
                                                  .name) +
-                                  (m.texture >= 0 && !solid && m.projector < 0 ? "" : m.bump >= 0 ? " as its bump map" : " as its light map"));
+                                  (own_uv ? "" : m.bump >= 0 ? " as its bump map" : " as its light map"));
         }
         object.mesh = int(scene_.meshes.size());
         scene_.meshes.push_back(std::move(mesh));

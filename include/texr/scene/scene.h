@@ -14,6 +14,7 @@
 #include "texr/core/color.h"
 #include "texr/core/error.h"
 #include "texr/texture/image.h"
+#include "texr/texture/intermediate.h"
 #include "texr/texture/mipmap.h"
 #include "texr/texture/procedural.h"
 #include "texr/texture/sampler.h"
@@ -67,6 +68,8 @@ struct Material {
     int lightmap = -1;
     double lightmap_repeat = 1.0;
     int projector = -1;  // its texture is read where this projector throws it; -1: at the mesh's (u, v)
+    // Or at the (u, v) of an intermediate surface (texture/intermediate.h); kind none: the mesh's.
+    IntermediateMapping mapping;
 };
 
 // A slide projector (the lecture's "Projective Textures"): a material that names it reads
