@@ -30,16 +30,16 @@ TEST_CASE("planar, cylindrical and spherical intermediate surfaces map hand-work
     CHECK(uv.x == doctest::Approx(0.5));
     uv = intermediate_uv(m, m.center + glm::dvec3(0, 0, 1));  // y' = -1: phi = 3 pi / 2
     CHECK(uv.x == doctest::Approx(0.75));
-    // spherical, the same frame: v = theta / pi from +z' (here +y)
+    // spherical, the same frame: v = 1 - theta / pi, theta from +z' (here +y)
     m.kind = Intermediate::spherical;
-    CHECK(intermediate_uv(m, m.center + glm::dvec3(0, 4, 0)).y == doctest::Approx(0.0));
-    CHECK(intermediate_uv(m, m.center + glm::dvec3(0, -4, 0)).y == doctest::Approx(1.0));
+    CHECK(intermediate_uv(m, m.center + glm::dvec3(0, 4, 0)).y == doctest::Approx(1.0));
+    CHECK(intermediate_uv(m, m.center + glm::dvec3(0, -4, 0)).y == doctest::Approx(0.0));
     uv = intermediate_uv(m, m.center + glm::dvec3(2, 0, 0));
     CHECK(uv.x == doctest::Approx(0.0));
     CHECK(uv.y == doctest::Approx(0.5));
     uv = intermediate_uv(m, m.center + glm::dvec3(1, 1, -1));  // phi = pi / 4, theta = acos(1 / sqrt 3)
     CHECK(uv.x == doctest::Approx(0.125));
-    CHECK(uv.y == doctest::Approx(std::acos(1 / std::sqrt(3.0)) / 3.14159265358979323846));
+    CHECK(uv.y == doctest::Approx(1 - std::acos(1 / std::sqrt(3.0)) / 3.14159265358979323846));
     // Derivatives: planar ones exactly dp . x' / S; cylindrical ones across the seam (phi just
     // below 2 pi) finite, d phi / d(y') = 1 / r at the seam: du = dy' / (2 pi r).
     m.kind = Intermediate::planar, m.axis = {0, 0, 1}, m.size = 0.5;

@@ -32,10 +32,12 @@ TEST_CASE("sphere, cylinder and disc vertices lie at the slides' p(u, v), and th
         int vertices, triangles;
     };
     const Case cases[] = {
-        // sphere 2, 16 segments: 17 x 9 vertices; the rows at the poles give one triangle per cell
+        // sphere 2, 16 segments: 17 x 9 vertices; the rows at the poles give one triangle per cell.
+        // theta = pi (1 - v): texr's v counts from an image's bottom row.
         {"sphere 2 segments 16",
          [](double u, double v) {
-             return 2.0 * glm::dvec3(std::sin(pi * v) * std::cos(2 * pi * u), std::sin(pi * v) * std::sin(2 * pi * u), std::cos(pi * v));
+             const double t = pi * (1 - v);
+             return 2.0 * glm::dvec3(std::sin(t) * std::cos(2 * pi * u), std::sin(t) * std::sin(2 * pi * u), std::cos(t));
          },
          17 * 9, 16 * 8 * 2 - 2 * 16},
         {"cylinder 0.5 3 segments 12", [](double u, double v) { return glm::dvec3(0.5 * std::cos(2 * pi * u), 0.5 * std::sin(2 * pi * u), 3 * v); },
@@ -68,8 +70,8 @@ TEST_CASE("sphere, cylinder and disc vertices lie at the slides' p(u, v), and th
 }
 
 TEST_CASE("a pixel on a sphere, a cylinder or a disc reads close to the parameterization inverted at its surface point") {
-    // explain gives the (u, v) the pixel reads and, with a point light, the surface point; the
-    // slides' p inverted there: sphere u = atan2(y, x) / 2 pi, v = acos(z / r) / pi; cylinder
+    // explain gives the (u, v) the pixel reads and the surface point; the slides' p inverted
+    // there: sphere u = atan2(y, x) / 2 pi, v = 1 - acos(z / r) / pi; cylinder
     // u = atan2(y, x) / 2 pi, v = z / H; disc u = atan2(y, x) / 2 pi, v = |(x, y)| / R (u in [0, 1)).
     const std::string dir = scratch_folder("parametric");
     struct Case {
@@ -82,7 +84,7 @@ TEST_CASE("a pixel on a sphere, a cylinder or a disc reads close to the paramete
         {"sphere 1 segments 256", 40, 20,
          [](const glm::dvec3& p) {
              const double u = std::atan2(p.y, p.x) / (2 * pi);
-             return glm::dvec2(u < 0 ? u + 1 : u, std::acos(p.z / glm::length(p)) / pi);
+             return glm::dvec2(u < 0 ? u + 1 : u, 1 - std::acos(p.z / glm::length(p)) / pi);
          }},
         {"cylinder 1 2 segments 256", 36, 20,
          [](const glm::dvec3& p) {
@@ -127,7 +129,8 @@ TEST_CASE("parametric surfaces in scene files: sizes, segments, options") {
     for (const auto& [line, message] : std::vector<std::pair<std::string, std::string>>{
              {"sphere 0", "the sphere's radius must be above 0 and at most 1e18"},
              {"cylinder 1 -2", "the cylinder's height must be above 0 and at most 1e18"},
-             {"disc 1 segments 7", "segments must be a whole number from 8 to 4096"},
+             {"disc 1 segments 7", "segments must be a whole number from 8 to 1024"},
+             {"sphere 1 segments 2048", "segments must be a whole number from 8 to 1024"},
              {"sphere 1 segments 8 segments 16", "'segments' is given a second time in this 'sphere' command (first on line 2): give it once"},
              {"disc 1 wedge 3", "unknown disc option 'wedge' (expected segments, material, cull, translate, rotate or scale)"},
              {"cylinder 1", "expected the cylinder's height after '1', found the end of the line"},
@@ -138,4 +141,30 @@ TEST_CASE("parametric surfaces in scene files: sizes, segments, options") {
         CHECK(r.exit_code == 1);
         CHECK(r.output == "texr: " + dir + "/bad.scene:2: " + message + "\n");
     }
+}
+
+TEST_CASE("an image on the sphere reads left to right and bottom to top from outside, not mirrored") {
+    // Eight colours in a 4x2 image (nearest): texel (i, row from the top j) has colour 4 j + i
+    // (bit 0 red, 1 green, 2 blue). Seen from (0, -3, 0) with z up, the sphere shows u from
+    // about 0.5 (left edge) to 1 (right edge): columns 2 and 3; its upper half is the image's
+    // top row.
+    const std::string dir = scratch_folder("parametric-orientation");
+    std::string ppm = "P6\n4 2\n255\n";
+    for (int k = 0; k < 8; ++k)
+        for (int bit = 0; bit < 3; ++bit) ppm += char((k >> bit) & 1 ? 255 : 0);
+    write_text(dir + "/t.ppm", ppm);
+    write_text(dir + "/s.scene", "size 64 64\ncamera eye 0 -3 0 target 0 0 0 up 0 0 1 fov 45\ntexture t file t.ppm filter nearest\n"
+                                 "material m texture t\nsphere 1 segments 128 material m\n");
+    REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/s.ppm").exit_code == 0);
+    const std::string pixels = ppm_pixels(dir + "/s.ppm", 64, 64);
+    REQUIRE(pixels.size() == 64 * 64 * 3);
+    const auto colour = [&](int x, int y) {
+        int k = 0;
+        for (int bit = 0; bit < 3; ++bit) k |= (std::uint8_t(pixels[3 * std::size_t(y * 64 + x) + std::size_t(bit)]) == 255 ? 1 : 0) << bit;
+        return k;
+    };
+    CHECK(colour(24, 24) == 2);      // left, top row: column 2
+    CHECK(colour(40, 24) == 3);      // right, top row: column 3
+    CHECK(colour(24, 40) == 4 + 2);  // left, bottom row
+    CHECK(colour(40, 40) == 4 + 3);  // right, bottom row
 }

@@ -728,7 +728,9 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                 if constexpr (general) texel *= Color4(irradiance_map, 1.0f);
                 // A cutout material's texels below its alpha threshold are holes: the pixel keeps
                 // what is behind (its depth too). (The short paths never draw such a material.)
-                if (!general || d.material.cutout <= 0.0f || texel.w >= d.material.cutout) {
+                // (within 1e-4: a filter's alpha of opaque texels may round to just below 1, as
+                // bicubic's 16 weights do)
+                if (!general || d.material.cutout <= 0.0f || texel.w >= d.material.cutout - 1e-4f) {
                     depth_row[x] = float(depth.value);
                     color_row[x] = shade<N, !general>(d, texel, pixel_normal, color.value() * inv_q, world.value() * inv_q, &texels);
                     ++shaded;

@@ -33,7 +33,6 @@ namespace {
 // that it does not read as a typo. Empty for any other word.
 std::string not_in_texr_yet(const std::string& word) {
     static const std::map<std::string, const char*> parts = {
-        {"disk", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"torus", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"cone", "parametric surfaces (texr's: sphere, cylinder and disc)"},
         {"wood", "wood pattern (solid noise)"}, {"granite", "granite pattern (solid noise)"},
@@ -47,6 +46,7 @@ std::string not_in_texr_yet(const std::string& word) {
         {"displace", "displacement mapping"}};
     std::string lower;
     for (const char ch : word) lower += (ch >= 'A' && ch <= 'Z') ? char(ch - 'A' + 'a') : ch;
+    if (lower == "disk") return "; did you mean 'disc'?";
     // Opacity: texr's is an alpha test.
     for (const char* alpha : {"opacity", "alpha", "transparency", "alpha_test", "blend"})
         if (lower == alpha)
@@ -901,7 +901,8 @@ private:
             if (key == "segments") {
                 c.once(key);
                 const double n = c.number("the number of segments");
-                if (!(n >= 8.0 && n <= 4096.0 && n == std::floor(n))) c.fail("segments must be a whole number from 8 to 4096");
+                // (a sphere of 1024 segments is 1M triangles, some 60 MB)
+                if (!(n >= 8.0 && n <= 1024.0 && n == std::floor(n))) c.fail("segments must be a whole number from 8 to 1024");
                 segments = int(n);
             } else if (!object_option(c, key, object, material, material_at)) {
                 c.unknown_option(kind, key, "segments, material, cull, translate, rotate or scale");
@@ -909,7 +910,7 @@ private:
         }
         const int nu = segments, nv = kind == "sphere" ? segments / 2 : kind == "disc" ? segments / 4 : 1;
         const auto at = [&](double u, double v, glm::dvec3& normal) {
-            const double phi = 2.0 * pi * u;
+            const double phi = u == 1.0 ? 0.0 : 2.0 * pi * u;  // (the seam's vertices the same as u = 0's: sin 2 pi is not 0)
             if (kind == "disc") {
                 normal = {0.0, 0.0, 1.0};
                 return glm::dvec3(radius * v * std::cos(phi), radius * v * std::sin(phi), 0.0);
@@ -918,8 +919,11 @@ private:
                 normal = {std::cos(phi), std::sin(phi), 0.0};
                 return glm::dvec3(radius * std::cos(phi), radius * std::sin(phi), height * v);
             }
-            // (at the poles exactly: sin(pi) is 1.2e-16, not 0)
-            const double sin_theta = v == 1.0 ? 0.0 : std::sin(pi * v), cos_theta = v == 1.0 ? -1.0 : std::cos(pi * v);
+            // theta = pi (1 - v): texr's v runs up the image (v = 0 its bottom row), where the
+            // slide's v = theta / pi counts from an image's top row; so the image's top is at
+            // the +z pole and the texture is not mirrored on the sphere (as on the environment
+            // map). At the poles exactly: sin(pi) is 1.2e-16, not 0.
+            const double sin_theta = v == 0.0 ? 0.0 : std::sin(pi * (1.0 - v)), cos_theta = v == 0.0 ? -1.0 : std::cos(pi * (1.0 - v));
             normal = {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
             return radius * normal;
         };
@@ -932,6 +936,12 @@ private:
                 glm::dvec3 normal;
                 const glm::dvec3 p = at(u, v, normal);
                 vertex.position = glm::vec3(p), vertex.normal = glm::vec3(normal), vertex.uv = {u, v};
+                // A pole's (or the disc centre's) vertex serves the one triangle of its cell:
+                // its u is the cell's middle, so that u runs straight into the point, not in a
+                // pinwheel.
+                // (the last row's apex (i, nv) serves cell i - 1)
+                if ((kind == "sphere" || kind == "disc") && j == 0 && i < nu) vertex.uv.x = (i + 0.5) / nu;
+                if (kind == "sphere" && j == nv && i > 0) vertex.uv.x = (i - 0.5) / nu;
                 mesh.vertices.push_back(vertex);
             }
         const auto index = [&](int i, int j) { return std::uint32_t(j * (nu + 1) + i); };
@@ -988,11 +998,17 @@ public:
         for (const PendingBillboard& b : pending_billboards_) {
             const auto fail = [&](const std::string& message) { throw InputError(file_, b.line, message); };
             glm::dvec3 to_eye = camera.eye - b.center, up(0.0, 1.0, 0.0);
-            if (b.about_axis) to_eye.y = 0.0;
+            if (b.about_axis) {
+                to_eye.y = 0.0;
+                // Straight above or below the eye it is seen edge-on whichever way it turns:
+                // it faces against the camera's view (or up) instead, as seen from above.
+                if (!(glm::length(to_eye) > 0.0)) to_eye = -(camera.target - camera.eye), to_eye.y = 0.0;
+                if (!(glm::length(to_eye) > 0.0)) to_eye = -camera.up, to_eye.y = 0.0;
+                if (!(glm::length(to_eye) > 0.0)) to_eye = glm::dvec3(0.0, 0.0, 1.0);
+            }
             const double distance = glm::length(to_eye);
             if (!(distance > 0.0) || !std::isfinite(distance))
-                fail(b.about_axis ? "the eye is straight above or below the billboard (or at it): it cannot turn to face it about "
-                                    "the y axis (use 'turn view')"
+                fail(b.about_axis ? "the billboard's position is beyond a double's range"
                                   : "the eye is at the billboard's centre: it has no side to face");
             const glm::dvec3 f = to_eye / distance;
             if (!b.about_axis) {

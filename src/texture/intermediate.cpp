@@ -27,7 +27,7 @@ glm::dvec2 intermediate_uv(const IntermediateMapping& m, const glm::dvec3& p) {
             if (m.kind == Intermediate::cylindrical) return {u, z / m.size};
             const double r = std::sqrt(x * x + y * y + z * z);
             const double theta = r > 0.0 ? std::acos(std::clamp(z / r, -1.0, 1.0)) : 0.0;
-            return {u, theta / pi};
+            return {u, 1.0 - theta / pi};  // (the image's top row at +z': see the header)
         }
         case Intermediate::none: break;
     }

@@ -4,8 +4,9 @@
 // dropped and (u, v) come from the other two:
 //   planar       u = x' / S,            v = y' / S               (drop z')
 //   cylindrical  u = phi / 2 pi,        v = z' / H               (drop r; phi = atan2(y', x'))
-//   spherical    u = phi / 2 pi,        v = theta / pi           (drop r; theta from +z')
-// with phi in [0, 2 pi). texr evaluates it at every pixel's world position (the
+//   spherical    u = phi / 2 pi,        v = 1 - theta / pi       (drop r; theta from +z')
+// with phi in [0, 2 pi). (The slide's v = theta / pi counts from an image's top row; texr's
+// v runs up from its bottom row, so the image's top is at the +z' pole, unmirrored.) texr evaluates it at every pixel's world position (the
 // O-mapping of the slides is the surface point's own position), so a triangle that spans
 // the seam phi = 0 gets no backwards smear across the texture, as interpolating per-vertex
 // (u, v) would give it. The screen derivatives come from the world position's by central
