@@ -173,6 +173,13 @@ TEST_CASE("bump maps in scene files: lighting, solid textures, meshes without UV
     REQUIRE(run_texr("render " + dir + "/plain.scene -o " + dir + "/plain.ppm").exit_code == 0);
     REQUIRE(run_texr("render " + dir + "/white.scene -o " + dir + "/textured.ppm").exit_code == 0);
     CHECK(read_file(dir + "/plain.ppm") == read_file(dir + "/textured.ppm"));
+    // Likewise a light map (clamped, so that where it is read shows): on those UVs, / 2.
+    write_text(dir + "/lplain.scene", head + "texture l procedural noise scale 3\nmaterial m lightmap l lightmap_repeat 2\n" + quads);
+    write_text(dir + "/lwhite.scene", head + "texture l procedural noise scale 3\ntexture w file white.ppm wrap repeat\n"
+                                             "material m texture w lightmap l lightmap_repeat 2\n" + quads);
+    REQUIRE(run_texr("render " + dir + "/lplain.scene -o " + dir + "/lplain.ppm").exit_code == 0);
+    REQUIRE(run_texr("render " + dir + "/lwhite.scene -o " + dir + "/lwhite.ppm").exit_code == 0);
+    CHECK(read_file(dir + "/lplain.ppm") == read_file(dir + "/lwhite.ppm"));
     // A bump map on a material with no texture of its own, on 1 and 3 threads and every span
     // mode: drawn, and the same bytes for every thread count.
     write_text(dir + "/ok.scene", head + "material m lighting lambert bump n 0.05\n" + triangle);

@@ -103,3 +103,26 @@ TEST_CASE("intermediate mapping in scene files: options and messages") {
         CHECK(r.output.find(message) != std::string::npos);
     }
 }
+
+TEST_CASE("mapped and projected textures give the filters a footprint: a receding floor against its supersampled truth") {
+    // The checker image on a floor, trilinear, (u, v) from a planar mapping or from a parallel
+    // projector above it, against 8x8 supersampling (`texr compare`'s PSNR over the frame).
+    // Measured: 24.37 and 32.38 dB; with the derivatives left at 0 (the base level
+    // everywhere: aliasing) 14.56 and 26.78 dB.
+    const std::string dir = scratch_folder("mapped-footprint");
+    const std::string head = "size 128 96\ncamera eye 0 1 0 target 0 0.75 -4 fov 60\ntexture t file " +
+                             source_path("models/textures/checker.png") + " filter trilinear\n";
+    const std::string quad = " v -50 0 5 0 0 v 50 0 5 0 0 v 50 0 -95 0 0 v -50 0 -95 0 0\n";
+    for (const auto& [material, least] : {std::pair<std::string, double>{"mapping planar mapping_axis 0 1 0 mapping_size 2", 20.0},
+                                          std::pair<std::string, double>{"projector p", 29.5}}) {
+        CAPTURE(material);
+        write_text(dir + "/s.scene", head + "projector p eye 0 30 0 target 0 0 -0.0001 parallel 200\nmaterial m texture t " + material +
+                                         "\nquad material m" + quad);
+        REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/s.ppm").exit_code == 0);
+        REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/truth.ppm --spp 8").exit_code == 0);
+        const RunResult c = run_texr("compare " + dir + "/s.ppm " + dir + "/truth.ppm");
+        const std::size_t at = c.output.find("PSNR ");
+        REQUIRE(at != std::string::npos);
+        CHECK(std::stod(c.output.substr(at + 5)) > least);
+    }
+}

@@ -49,6 +49,17 @@ TEST_CASE("slope-based mapping: alpha = n . w blends the flat and the steep colo
     }
 }
 
+TEST_CASE("slope-based mapping clamps alpha at 0: a surface facing away from w takes the steep colour") {
+    const std::string dir = scratch_folder("slope-down");
+    write_text(dir + "/s.scene", "size 16 16\ncamera eye 0 0 2 target 0 0 0 fov 90\nmaterial m slope 0.3 0.7 0.2 0.55 0.45 0.4\n"
+                                 "quad material m v -5 -5 0 0 0 n 0 -1 0 v 5 -5 0 1 0 n 0 -1 0 v 5 5 0 1 1 n 0 -1 0 v -5 5 0 0 1 n 0 -1 0\n");
+    REQUIRE(run_texr("render " + dir + "/s.scene -o " + dir + "/s.ppm").exit_code == 0);
+    const std::string pixels = ppm_pixels(dir + "/s.ppm", 16, 16);
+    REQUIRE(pixels.size() == 16 * 16 * 3);
+    const double steep[3] = {0.55, 0.45, 0.4};
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(int(std::uint8_t(pixels[std::size_t(3 * (8 * 16 + 8) + k)])) - encoded(linear(steep[k]))) <= 1);
+}
+
 TEST_CASE("a light map multiplies the colour by its irradiance, read at (u, v) / lightmap_repeat, pixel for pixel") {
     // A quad filling a 64x64 frame with UVs 0..2 and a 2x2 light map (nearest) repeated 2 times:
     // the map is read at (u, v) / 2, so its four texels fill the four quarters of the frame.

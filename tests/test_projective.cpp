@@ -51,6 +51,7 @@ TEST_CASE("a projector throws (u, v) = ((c.x / c.w + 1) / 2, (c.y / c.w + 1) / 2
     t = project(parallel, {1, -1, -20}, none, none);
     CHECK(t.u == doctest::Approx(0.75));
     CHECK(t.v == doctest::Approx(0.25));
+    CHECK_FALSE(project(parallel, {0, 0, 6}, none, none).ahead);  // behind a parallel projector too (its c.w is always 1)
     // The derivatives: along a direction dP, against a central difference.
     const glm::dvec3 point(0.3, -0.2, 1.0), dx(0.01, 0.002, -0.003), dy(-0.001, 0.02, 0.004);
     t = project(p, point, dx, dy);
@@ -98,6 +99,22 @@ TEST_CASE("a projected texture's texels land where the projector throws them, pi
         }
     CHECK(checked > 2500);
     CHECK(wrong == 0);
+    // Behind the projector nothing is thrown: a plane behind it shows the border colour (red),
+    // whatever the projector's kind.
+    for (const std::string kind : {"fov 90", "parallel 3"}) {
+        CAPTURE(kind);
+        write_text(dir + "/b.scene", "size 32 32\ncamera eye 0 0 6 target 0 0 3 fov 60\n"
+                                     "texture t file t.ppm filter bilinear wrap border border 1 0 0 1\nprojector p eye 0 0 2 target 0 0 0 " +
+                                         kind + "\nmaterial m texture t projector p\n"
+                                                "quad material m v -3 -3 3 0 0 v 3 -3 3 0 0 v 3 3 3 0 0 v -3 3 3 0 0\n");
+        REQUIRE(run_texr("render " + dir + "/b.scene -o " + dir + "/b.ppm").exit_code == 0);
+        const std::string behind = ppm_pixels(dir + "/b.ppm", 32, 32);
+        REQUIRE(behind.size() == 32 * 32 * 3);
+        int red = 0;
+        for (std::size_t i = 0; i < behind.size(); i += 3)
+            red += std::uint8_t(behind[i]) == 255 && behind[i + 1] == 0 && behind[i + 2] == 0;
+        CHECK(red == 32 * 32);
+    }
     // explain tells the throw, and its bytes are the frame's.
     const RunResult e = run_texr("explain " + dir + "/s.scene 20 30");
     CHECK(e.output.find("5. Texture 't', thrown by projector 'p' (perspective):\n") != std::string::npos);

@@ -224,12 +224,18 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     }
     if (m.texture >= 0 || m.lightmap >= 0) c *= Color(lit_texel);
     if (m.slope && (needs & need_normal)) {
-        const glm::dvec3 n = unit_direction(over_q(e.normal));
+        // (the shading normal: N' where there is a bump map, as the render's shade() gets it)
+        glm::dvec3 n = unit_direction(over_q(e.normal));
+        if (m.bump >= 0 && (needs & need_world_position)) {
+            std::uint64_t texels = 0;
+            n = unit_direction(bumped_normal(n, e.tangents, bump_at(texels)));
+        }
         const double alpha = std::clamp(glm::dot(n, m.slope_direction), 0.0, 1.0);
         const Color slope = float(alpha) * m.slope_flat + (1.0f - float(alpha)) * m.slope_steep;
         c *= slope;
         out += "    x slope colour  " + rgb(slope) +
-               format(" (alpha = n . w = %.5f: alpha flat + (1 - alpha) steep)\n", alpha);
+               format(" (alpha = n . w = %.5f", alpha) + (m.bump >= 0 ? ", n the bumped N'" : "") +
+               ": alpha flat + (1 - alpha) steep)\n";
     }
     if (needs & need_color) {
         const Color vertex(over_q(e.vertex_color));

@@ -674,6 +674,7 @@ private:
                                                              0.5 * p.height, -1.0, 1.0)
                                            : glm::perspectiveRH_NO(glm::radians(p.fov_y_degrees), p.aspect, 1.0, 2.0);
         p.matrix = lens * look;
+        p.forward = glm::normalize(view);
         projector_index_[p.name] = int(scene_.projectors.size());
         scene_.projectors.push_back(p);
     }

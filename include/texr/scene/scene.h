@@ -83,6 +83,7 @@ struct Projector {
     double height = 1.0;          // parallel: the projected image's height in world units
     // World position -> clip space of the projector (OpenGL's; the image is x, y in [-w, w]).
     glm::dmat4 matrix{1.0};
+    glm::dvec3 forward{0.0, 0.0, -1.0};  // unit, eye to target: a point is ahead where (P - eye) . forward > 0
 };
 
 struct Light {

@@ -14,7 +14,7 @@
 namespace texr {
 
 struct ProjectedUV {
-    bool ahead = false;  // P is in front of the projector (c.w > 0); behind it, nothing is thrown
+    bool ahead = false;  // P is in front of the projector ((P - eye) . forward > 0); behind it, nothing is thrown
     double u = 0.0, v = 0.0;
     UVDerivatives d{0.0, 0.0, 0.0, 0.0};
 };
