@@ -204,8 +204,7 @@ std::string shading(const PixelExplanation& e, const Scene& scene, const Materia
     // A bump map's slopes, read at the scene's (u, v) (the setup's shift added back, as the
     // span walk reads it), with a step of at least the pixel's footprint.
     const auto bump_at = [&](std::uint64_t& texels) {
-        const UVDerivatives d = uv_derivatives(e.h, u, v, q);
-        const double footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+        const double footprint = footprint_length(uv_derivatives(e.h, u, v, q));
         return bump_slope(scene.textures[std::size_t(m.bump)], m.bump_height, u + e.uv_shift.x, v + e.uv_shift.y, footprint, texels);
     };
     // (the render multiplies the texel by the light map's E before the colour by the texel)
@@ -409,16 +408,21 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
     out += format("    du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n", exact_d.dudx, exact_d.dvdx, exact_d.dudy,
                   exact_d.dvdy);
 
+    // The world position the pixel read, and its screen derivatives: the span walk's where it
+    // was captured (it steps P' and q along the row: its position may differ from the plane
+    // equations' in the last digits, and by a cell boundary in the cell).
+    const auto world_read = [&](glm::dvec3& dx, glm::dvec3& dy) {
+        glm::dvec3 world;
+        for (int i = 0; i < 3; ++i) world[i] = e.world[std::size_t(i)].at(x, y) / q;
+        if (e.world_read_known) world = e.world_read;
+        attribute_derivatives(e.world, e.h.q, world, 1.0 / q, dx, dy);
+        return world;
+    };
     Color4 texel(1.0f);
     if (m.texture >= 0 && (m.projector >= 0 || m.mapping.kind != Intermediate::none)) {
         const Texture& t = scene.textures[std::size_t(m.texture)];
-        glm::dvec3 world, dx, dy;
-        for (int i = 0; i < 3; ++i) world[i] = e.world[std::size_t(i)].at(x, y) / q;
-        if (e.world_read_known) world = e.world_read;  // (the position the span walk stepped to)
-        for (int i = 0; i < 3; ++i) {
-            dx[i] = (e.world[std::size_t(i)].dx - world[i] * e.h.q.dx) / q;
-            dy[i] = (e.world[std::size_t(i)].dy - world[i] * e.h.q.dy) / q;
-        }
+        glm::dvec3 dx, dy;
+        const glm::dvec3 world = world_read(dx, dy);
         ProjectedUV thrown;
         if (m.projector >= 0) {
             const Projector& p = scene.projectors[std::size_t(m.projector)];
@@ -443,8 +447,7 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
                         : format("    in the surface's frame (x', y', z'), one coordinate dropped: u = %.10g, v = %.10g\n", thrown.u, thrown.v)) +
                    format("    their derivatives: du/dx = %.6g   dv/dx = %.6g   du/dy = %.6g   dv/dy = %.6g\n",
                           thrown.d.dudx, thrown.d.dvdx, thrown.d.dudy, thrown.d.dvdy);
-            texel = t.procedural ? procedural_value(*t.procedural, {thrown.u, thrown.v, 0.0},
-                                                    std::max(std::hypot(thrown.d.dudx, thrown.d.dvdx), std::hypot(thrown.d.dudy, thrown.d.dvdy)))
+            texel = t.procedural ? procedural_value(*t.procedural, {thrown.u, thrown.v, 0.0}, footprint_length(thrown.d))
                                  : lookup(t, thrown.u, thrown.v, thrown.d, texels);
         }
         out += "    the texture's value, linear RGBA: " + channels(texel) + "\n";
@@ -463,22 +466,15 @@ std::string describe(const PixelExplanation& e, const Scene& scene) {
         }
         glm::dvec3 world(0.0);
         double footprint = 0.0;
-        const bool band_limited = p.pattern != Pattern::checker && p.pattern != Pattern::tile && p.pattern != Pattern::brick;
+        const bool band_limited = texr::band_limited(p.pattern);
         if (p.solid) {
-            for (int i = 0; i < 3; ++i) world[i] = e.world[std::size_t(i)].at(x, y) / q;
-            // The span walk steps P' and q along the row: the position it read may differ from
-            // the plane equations' in the last digits (and, by a cell boundary, in the cell).
-            if (e.world_read_known) world = e.world_read;
             glm::dvec3 dx, dy;
-            for (int i = 0; i < 3; ++i) {
-                dx[i] = (e.world[std::size_t(i)].dx - world[i] * e.h.q.dx) / q;
-                dy[i] = (e.world[std::size_t(i)].dy - world[i] * e.h.q.dy) / q;
-            }
+            world = world_read(dx, dy);
             out += format("\n   the world position the pixel read, P = P'/q (stepped along the row): (%.10g, %.10g, %.10g)\n",
                           world.x, world.y, world.z);
             if (band_limited) footprint = std::max(glm::length(dx), glm::length(dy));
         } else if (band_limited) {
-            footprint = std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+            footprint = footprint_length(d);
         }
         out += "\n5. Texture " + shown_name(t.name) + " (procedural " + pattern_name(p.pattern) + (p.solid ? ", solid" : "") +
                "; no texels, filter or wrap):\n";

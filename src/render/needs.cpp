@@ -18,9 +18,7 @@ Needs needs_of(const Material& material, const Scene& scene) {
         } else if (t.procedural) {
             // Noise, turbulence and marble are band-limited by the footprint.
             needs |= need_uv;
-            if (t.procedural->pattern != Pattern::checker && t.procedural->pattern != Pattern::tile &&
-                t.procedural->pattern != Pattern::brick)
-                needs |= need_uv_derivatives;
+            if (band_limited(t.procedural->pattern)) needs |= need_uv_derivatives;
         } else {
             needs |= need_uv;
             if (uses_footprint(t.sampler.filter)) needs |= need_uv_derivatives;

@@ -157,19 +157,11 @@ inline Color4 procedural_texel(const Procedural& p, double u, double v, const gl
     return procedural_value(p, p.solid ? world : glm::dvec3(u, v, 0.0), footprint);
 }
 
-// The footprint of a pixel in (u, v): the longer of |d(u,v)/dx| and |d(u,v)/dy|.
-inline double uv_footprint(const UVDerivatives& d) {
-    return std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
-}
-
 // The footprint of a pixel in world units: the longer of |dP/dx| and |dP/dy| for the world
-// position P = P'/q, by the quotient rule as the (u, v) derivatives are, from its planes.
+// position P = P'/q, from its planes.
 inline double world_footprint(const TriangleSetup& s, const glm::dvec3& world, double inv_q) {
     glm::dvec3 dx, dy;
-    for (int i = 0; i < 3; ++i) {
-        dx[i] = (s.world[std::size_t(i)].dx - world[i] * s.h.q.dx) * inv_q;
-        dy[i] = (s.world[std::size_t(i)].dy - world[i] * s.h.q.dy) * inv_q;
-    }
+    attribute_derivatives(s.world, s.h.q, world, inv_q, dx, dy);
     return std::max(glm::length(dx), glm::length(dy));
 }
 
@@ -658,7 +650,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                             // the colour texture's wrap mode, which need not be the bump map's.
                             const Texture& bump = d.scene.textures[std::size_t(d.material.bump)];
                             const BumpSlope slope = bump_slope(bump, d.material.bump_height, u + s.uv_shift.x, v + s.uv_shift.y,
-                                                               uv_footprint(derivatives), texels);
+                                                               footprint_length(derivatives), texels);
                             pixel_normal = bumped_normal(unit_direction(pixel_normal), s.tangents, slope);
                         }
                     if constexpr (general) {
@@ -668,7 +660,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         } else if (d.spp > 1) {
                             texel = supersampled_texel(d, s, x, y, texels);
                         } else if (const Procedural* p = d.texture->procedural.get()) {
-                            const double footprint = (N & need_uv_derivatives) == 0 ? 0.0 : uv_footprint(derivatives);
+                            const double footprint = (N & need_uv_derivatives) == 0 ? 0.0 : footprint_length(derivatives);
                             texel = procedural_value(*p, {u, v, 0.0}, footprint);
                         } else {
                             texel = lookup(*d.texture, u, v, derivatives, texels);
@@ -695,18 +687,15 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         const glm::dvec3 at = world.value() * inv_q;
                         if (d.spp > 1)
                             texel = supersampled_texel(d, s, x, y, texels);
-                        else  // (the checkerboard needs no footprint)
-                            texel = procedural_value(*solid, at, solid->pattern == Pattern::checker ? 0.0 : world_footprint(s, at, inv_q));
+                        else  // (point-sampled patterns need no footprint)
+                            texel = procedural_value(*solid, at, band_limited(solid->pattern) ? world_footprint(s, at, inv_q) : 0.0);
                         if (world_row) world_row[x] = at;
                     }
                 if constexpr (general && (N & need_world_position) != 0)
                     if (projector || mapping) {
                         const glm::dvec3 at = world.value() * inv_q;
-                        glm::dvec3 dp_dx, dp_dy;  // the world position's screen derivatives, by the quotient rule
-                        for (int a = 0; a < 3; ++a) {
-                            dp_dx[a] = (s.world[std::size_t(a)].dx - at[a] * s.h.q.dx) * inv_q;
-                            dp_dy[a] = (s.world[std::size_t(a)].dy - at[a] * s.h.q.dy) * inv_q;
-                        }
+                        glm::dvec3 dp_dx, dp_dy;  // the world position's screen derivatives
+                        attribute_derivatives(s.world, s.h.q, at, inv_q, dp_dx, dp_dy);
                         ProjectedUV thrown;
                         if (projector) {
                             thrown = project(*projector, at, dp_dx, dp_dy);
@@ -720,7 +709,7 @@ void shade_span_on(const DrawContext& d, const TriangleSetup& s, int y, Span spa
                         else if (!thrown.ahead)  // (behind the projector: nothing thrown, the texture's border colour)
                             texel = d.texture->sampler.border;
                         else if (d.texture->procedural)
-                            texel = procedural_value(*d.texture->procedural, {thrown.u, thrown.v, 0.0}, uv_footprint(thrown.d));
+                            texel = procedural_value(*d.texture->procedural, {thrown.u, thrown.v, 0.0}, footprint_length(thrown.d));
                         else
                             texel = lookup(*d.texture, thrown.u, thrown.v, thrown.d, texels);
                         if (world_row) world_row[x] = at;

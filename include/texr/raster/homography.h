@@ -9,11 +9,14 @@
 // The divide by det(S) (which cancels in u'/q either way) makes q exactly 1/w.
 // Each row of M^-1 is a Plane: u', v', q are linear in x, y with constant derivatives.
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "texr/raster/plane.h"
 
@@ -81,6 +84,21 @@ inline UVDerivatives uv_derivatives_from_inverse_q(const TextureHomography& h, d
 }
 inline UVDerivatives uv_derivatives(const TextureHomography& h, double u, double v, double q) {
     return uv_derivatives_from_inverse_q(h, u, v, 1.0 / q);
+}
+
+// A pixel's footprint in (u, v): the longer of |d(u,v)/dx| and |d(u,v)/dy|.
+inline double footprint_length(const UVDerivatives& d) {
+    return std::max(std::sqrt(d.dudx * d.dudx + d.dvdx * d.dvdx), std::sqrt(d.dudy * d.dudy + d.dvdy * d.dvdy));
+}
+
+// The same quotient rule for a vector attribute P = P'/q given by its three planes over w
+// (the world position): dP/dx = (dP'/dx - P dq/dx) / q, and likewise for y.
+inline void attribute_derivatives(const std::array<Plane, 3>& over_w, const Plane& q, const glm::dvec3& p, double inv_q,
+                                  glm::dvec3& dx, glm::dvec3& dy) {
+    for (int i = 0; i < 3; ++i) {
+        dx[i] = (over_w[std::size_t(i)].dx - p[i] * q.dx) * inv_q;
+        dy[i] = (over_w[std::size_t(i)].dy - p[i] * q.dy) * inv_q;
+    }
 }
 
 }  // namespace texr

@@ -16,6 +16,9 @@ namespace texr {
 enum class Pattern { checker, tile, brick, noise, turbulence, marble };
 constexpr int pattern_count = 6;
 const char* pattern_name(Pattern p);
+// Whether the pattern is band-limited by the pixel's footprint (noise, turbulence, marble):
+// the others are point-sampled and need no derivatives.
+inline bool band_limited(Pattern p) { return p == Pattern::noise || p == Pattern::turbulence || p == Pattern::marble; }
 
 struct Procedural {
     Pattern pattern = Pattern::checker;
